@@ -1,0 +1,98 @@
+#pragma once
+// Hypoplasticity for sand after von Wolffersdorff (1996), Mech. Cohes.-Frict. Mater. 1, 251-271,
+// with the intergranular strain of Niemunis & Herle (1997), Mech. Cohes.-Frict. Mater. 2,
+// 279-299, exactly as written in BRIEF.md §2, integrated by an explicit embedded Runge-Kutta pair
+// with adaptive sub-stepping and local error control (in the spirit of Fellin & Ostermann 2002).
+//
+// Treatment of the edges of the model's domain (the model is undefined at tr T = 0):
+//  * Mean stress floor. A trial sub-step that leaves the admissible stress domain (a tensile
+//    principal stress, p below p_min, or a non-finite value) is rejected and the sub-step shrunk.
+//    Once the sub-step is below `min_substep` the point has reached the stress-free limit: its
+//    stress is set to the isotropic floor -p_min I ("floor hit", counted in UpdateResult). If the
+//    rest of the increment still pulls the point apart, the point stays on the floor for the rest
+//    of the increment (sand that has lost contact carries no stress); otherwise integration goes
+//    on.
+//  * Void ratio band. After every accepted sub-step e is clamped to [e_d(p), e_i(p)] (Bauer's
+//    law). The model keeps e inside this band in exact arithmetic for monotonic paths; the clamp
+//    removes integration drift and the loosening of separated sand. The largest relative distance
+//    outside the band before clamping is reported (UpdateResult::void_ratio_excess) so that tests
+//    and users can see that it stays at round-off level in ordinary loading.
+//  * Intergranular strain: ||delta|| <= R is restored after each accepted sub-step.
+#include "pilempm/constitutive/constitutive_model.hpp"
+#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+
+namespace pilempm {
+
+/// How the rate equations are integrated over one strain increment.
+struct IntegratorSettings {
+  enum class Scheme {
+    heun_euler,  ///< modified Euler, 2nd order with a 1st-order error estimate (2 evaluations)
+    bogacki_shampine,  ///< RK3(2) of Bogacki & Shampine (1989), 3rd order, FSAL (3 evaluations)
+  };
+  Scheme scheme = Scheme::heun_euler;
+  double tolerance = 1.0e-3;     ///< relative local error per sub-step, in (0, 0.1]
+  int fixed_substeps = 0;        ///< > 0: no error control, this many equal sub-steps (studies)
+  int max_substeps = 200000;     ///< more accepted plus rejected sub-steps is a failure
+  double min_substep = 1.0e-6;   ///< smallest sub-step as a fraction of the increment
+  double min_mean_stress = 1.0;  ///< p_min [Pa]: the mean stress floor, > 0
+
+  void validate() const;
+};
+
+/// Parses "heun-euler" or "bogacki-shampine".
+IntegratorSettings::Scheme parse_integrator_scheme(std::string_view text, std::string_view key);
+std::string_view to_string(IntegratorSettings::Scheme scheme);
+
+class Hypoplastic final : public ConstitutiveModel {
+ public:
+  Hypoplastic(const HypoplasticParameters& parameters,
+              const IntergranularStrainParameters& intergranular = {},
+              const IntegratorSettings& integrator = {});
+
+  /// "hypoplastic", "hypoplastic+IGS", with "+stress-dependent" when that option is on.
+  std::string name() const override;
+  UpdateResult update(MaterialState& state, const Vec6& strain_increment) const override;
+  Mat6 tangent(const MaterialState& state, const Vec6& strain_direction) const override;
+  double wave_modulus(const MaterialState& state) const override;
+
+  /// The objective rates of stress, void ratio and intergranular strain for the stretching D.
+  struct Rate {
+    Vec6 stress;
+    double void_ratio;
+    Vec6 intergranular_strain;
+  };
+  Rate rate(const MaterialState& state, const Vec6& stretching) const;
+
+  /// The basic model's linear stiffness L and nonlinear term N at the state (BRIEF.md §2), so
+  /// that T° = L:D + N ||D|| without intergranular strain.
+  struct Terms {
+    Mat6 L;
+    Vec6 N;
+  };
+  Terms basic_terms(const MaterialState& state) const;
+
+  const HypoplasticParameters& parameters() const { return parameters_; }
+  const IntergranularStrainParameters& intergranular() const { return intergranular_; }
+  const IntegratorSettings& integrator() const { return integrator_; }
+
+ private:
+  struct Point;  // the integrated variables (stress, void ratio, intergranular strain)
+  struct StressFunctions;
+  StressFunctions stress_functions(const Vec6& stress, double void_ratio) const;
+  void evaluate(const Point& y, const Vec6& stretching, Point& rate_out) const;
+  bool admissible(const Point& y) const;
+  double error_norm(const Point& error, const Point& y) const;
+  void restore_bounds(Point& y, UpdateResult& result) const;
+  void set_to_floor(Point& y) const;
+
+  HypoplasticParameters parameters_;
+  IntergranularStrainParameters intergranular_;
+  IntegratorSettings integrator_;
+  // Constants of the model that depend on the parameters only.
+  double a_;               // a = sqrt3 (3 - sin phi_c) / (2 sqrt2 sin phi_c)
+  double f_b_constant_;    // (h_s/n) (e_i0/e_c0)^beta / [3 + a^2 - a sqrt3 (...)^alpha]
+  bool stress_dependent_;  // alpha or e_x0 follow the stress level
+  double f_b_constant(const HypoplasticParameters::Reference& reference) const;
+};
+
+}  // namespace pilempm

@@ -1,0 +1,49 @@
+#include "pilempm/constitutive/linear_elastic.hpp"
+
+#include <cmath>
+
+#include "pilempm/core/error.hpp"
+
+namespace pilempm {
+
+void ElasticParameters::validate() const {
+  if (!(young_modulus > 0.0 && std::isfinite(young_modulus)))
+    throw InvalidValue("young_modulus_Pa", format_value(young_modulus), "> 0");
+  if (!(poisson_ratio > -1.0 && poisson_ratio < 0.5))
+    throw InvalidValue("poisson_ratio", format_value(poisson_ratio), "in (-1, 0.5)");
+}
+
+Mat6 ElasticParameters::stiffness() const {
+  const Vec6 one = identity6();
+  const Mat6 volumetric = outer(one, one) / 3.0;
+  const Mat6 deviatoric = Mat6::Identity() - volumetric;
+  return 3.0 * bulk_modulus() * volumetric + 2.0 * shear_modulus() * deviatoric;
+}
+
+LinearElastic::LinearElastic(const ElasticParameters& parameters)
+    : parameters_(parameters), stiffness_((parameters.validate(), parameters.stiffness())) {}
+
+UpdateResult LinearElastic::update(MaterialState& state, const Vec6& strain_increment) const {
+  if (!strain_increment.allFinite() || !state.stress.allFinite() ||
+      !std::isfinite(state.void_ratio)) {
+    UpdateResult failed;
+    failed.ok = false;
+    failed.message = "linear elastic: non-finite stress, void ratio or strain increment";
+    return failed;
+  }
+  state.stress += stiffness_ * strain_increment;
+  state.void_ratio += (1.0 + state.void_ratio) * trace(strain_increment);
+  UpdateResult result;
+  result.substeps = 1;
+  return result;
+}
+
+Mat6 LinearElastic::tangent(const MaterialState&, const Vec6&) const {
+  return stiffness_;
+}
+
+double LinearElastic::wave_modulus(const MaterialState&) const {
+  return parameters_.bulk_modulus() + 4.0 / 3.0 * parameters_.shear_modulus();
+}
+
+}  // namespace pilempm

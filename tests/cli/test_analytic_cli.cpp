@@ -1,0 +1,109 @@
+// The `pilempm analytic ...` subcommands, run as a user would: through the built binary.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace {
+
+struct CommandResult {
+  int exit_code;
+  std::string output;  // stdout and stderr together
+};
+
+CommandResult run_pilempm(const std::string& arguments) {
+  const std::string command = std::string("\"") + PILEMPM_BINARY + "\" " + arguments + " 2>&1";
+  std::FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return {-1, "popen failed"};
+  std::string output;
+  char buffer[4096];
+  std::size_t count;
+  while ((count = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, count);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+bool contains(const std::string& text, const std::string& part) {
+  return text.find(part) != std::string::npos;
+}
+
+// The brief's Bolton table (I_D = 0.95, phi_c = 31 deg) as printed, three decimals.
+TEST(AnalyticCli, BoltonPrintsTheBriefTable) {
+  const CommandResult run = run_pilempm(
+      "analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 500,2000,4000,6000,16000,30000");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* header : {"p_kPa", "I_R", "phi_max_deg", "psi_max_deg"})
+    EXPECT_TRUE(contains(run.output, header)) << header << " missing in\n" << run.output;
+  for (const char* value : {"2.596", "38.788", "16.277", "-1.294", "27.119", "-13.930"})
+    EXPECT_TRUE(contains(run.output, value)) << value << " missing in\n" << run.output;
+}
+
+TEST(AnalyticCli, BoltonWritesCsvWithUnitsInColumnNames) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("pilempm_test_bolton_" + std::to_string(::getpid()) + ".csv");
+  const CommandResult run = run_pilempm(
+      "analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 500,30000 --csv \"" + path.string() + "\"");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  std::ifstream file(path);
+  ASSERT_TRUE(file) << "no CSV at " << path;
+  std::string header, first, second, extra;
+  std::getline(file, header);
+  std::getline(file, first);
+  std::getline(file, second);
+  EXPECT_FALSE(std::getline(file, extra));
+  EXPECT_EQ(header, "p_kPa,I_R,phi_max_deg,dilatancy_rate,sin_psi_max,psi_max_deg");
+  EXPECT_EQ(first.rfind("500,2.59", 0), 0u) << first;
+  EXPECT_EQ(second.rfind("30000,-1.29", 0), 0u) << second;
+  std::filesystem::remove(path);
+}
+
+TEST(AnalyticCli, BadRelativeDensityExitsNonZeroNamingTheKey) {
+  const CommandResult run = run_pilempm("analytic bolton --id 1.5 --phi-c-deg 31 --p-kPa 500");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_TRUE(contains(run.output, "--id")) << run.output;
+  EXPECT_TRUE(contains(run.output, "1.5")) << run.output;
+}
+
+TEST(AnalyticCli, NegativePressureExitsNonZeroNamingTheKey) {
+  const CommandResult run = run_pilempm("analytic bolton --id 0.5 --phi-c-deg 31 --p-kPa 100,-5");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_TRUE(contains(run.output, "--p-kPa")) << run.output;
+}
+
+TEST(AnalyticCli, RohePrintsValuesAt10MPa) {
+  const CommandResult run = run_pilempm("analytic rohe --sigma-v-MPa 10");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  for (const char* value : {"0.887", "0.524", "1.020"})
+    EXPECT_TRUE(contains(run.output, value)) << value << " missing in\n" << run.output;
+}
+
+TEST(AnalyticCli, BauerNeedsASetOrAllParameters) {
+  const CommandResult with_set = run_pilempm("analytic bauer --set original --p-kPa 0,100");
+  ASSERT_EQ(with_set.exit_code, 0) << with_set.output;
+  EXPECT_TRUE(contains(with_set.output, "0.9290")) << with_set.output;  // e_c0 at p = 0
+  const CommandResult partial = run_pilempm("analytic bauer --h-s-MPa 4000 --n 0.42");
+  EXPECT_NE(partial.exit_code, 0);
+  EXPECT_TRUE(contains(partial.output, "--e-d0")) << partial.output;
+}
+
+TEST(AnalyticCli, AlphaShowsValueAndNoPeak) {
+  const CommandResult run =
+      run_pilempm("analytic alpha --set original --e0 0.68 --p-kPa 100,10000");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(contains(run.output, "0.1297")) << run.output;
+  EXPECT_TRUE(contains(run.output, "no_peak")) << run.output;
+}
+
+TEST(AnalyticCli, UnknownSetNamesTheKnownOnes) {
+  const CommandResult run = run_pilempm("analytic alpha --set nonsense --e0 0.68");
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_TRUE(contains(run.output, "nonsense")) << run.output;
+  EXPECT_TRUE(contains(run.output, "original")) << run.output;
+}
+
+}  // namespace

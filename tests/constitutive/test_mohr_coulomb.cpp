@@ -1,0 +1,570 @@
+// Mohr-Coulomb with non-associated flow and tension cut-off: exact return mapping checked against
+// its defining conditions (on the surface, plastic strain in the cone of the potential gradients),
+// drained triaxial compression/extension limits in closed form, dilatancy, validation, isotropy.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <map>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/core/error.hpp"
+#include "pilempm/element/mixed_control_driver.hpp"
+
+namespace pilempm {
+namespace {
+
+using Region = MohrCoulomb::ReturnRegion;
+
+constexpr double kE = 50.0e6;
+constexpr double kNu = 0.3;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double deg(double d) {
+  return d * kPi / 180.0;
+}
+
+MohrCoulombParameters make(double c, double phi, double psi, double t = kInf) {
+  MohrCoulombParameters p;
+  p.young_modulus = kE;
+  p.poisson_ratio = kNu;
+  p.cohesion = c;
+  p.friction_angle_deg = phi;
+  p.dilatancy_angle_deg = psi;
+  p.tension_cutoff = t;
+  return p;
+}
+
+// Hooke's law in Mandel notation, built independently of the library.
+Mat6 hooke(double e, double nu) {
+  const double lame = e * nu / ((1.0 + nu) * (1.0 - 2.0 * nu));
+  const double g = e / (2.0 * (1.0 + nu));
+  Mat6 d = Mat6::Zero();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) d(i, j) = lame + (i == j ? 2.0 * g : 0.0);
+  for (int i = 3; i < 6; ++i) d(i, i) = 2.0 * g;
+  return d;
+}
+
+Mat3 random_rotation(std::mt19937& rng) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  Eigen::Quaterniond q(n(rng), n(rng), n(rng), n(rng));
+  q.normalize();
+  return q.toRotationMatrix();
+}
+
+// Principal values, descending, and the matching eigenvectors as columns.
+struct Spectral {
+  Vec3 values;
+  Mat3 vectors;
+};
+Spectral spectral(const Vec6& a) {
+  Eigen::SelfAdjointEigenSolver<Mat3> s(to_matrix(a));
+  Spectral out;
+  out.values = s.eigenvalues().reverse();
+  out.vectors = s.eigenvectors().rowwise().reverse();
+  return out;
+}
+
+// Standard form (s1 - s3) + (s1 + s3) sin phi - 2 c cos phi, tension positive, s1 >= s3.
+double mc_function(const Vec3& sorted, double c, double phi_deg) {
+  return (sorted[0] - sorted[2]) + (sorted[0] + sorted[2]) * std::sin(deg(phi_deg)) -
+         2.0 * c * std::cos(deg(phi_deg));
+}
+
+// Is x a non-negative combination of the generators (up to tol relative to |x|)?
+bool in_cone(const std::vector<Vec3>& generators, const Vec3& x, double tol) {
+  const double size = x.norm();
+  if (size == 0.0) return true;
+  const int n = static_cast<int>(generators.size());
+  auto try_subset = [&](const std::vector<int>& subset) {
+    Eigen::MatrixXd g(3, static_cast<Eigen::Index>(subset.size()));
+    for (std::size_t j = 0; j < subset.size(); ++j)
+      g.col(static_cast<Eigen::Index>(j)) = generators[subset[j]];
+    const Eigen::VectorXd w = g.colPivHouseholderQr().solve(x);
+    if ((g * w - x).norm() > tol * size) return false;
+    for (std::size_t j = 0; j < subset.size(); ++j)
+      if (w[static_cast<Eigen::Index>(j)] * generators[subset[j]].norm() < -tol * size)
+        return false;
+    return true;
+  };
+  for (int i = 0; i < n; ++i) {
+    if (try_subset({i})) return true;
+    for (int j = i + 1; j < n; ++j) {
+      if (try_subset({i, j})) return true;
+      for (int k = j + 1; k < n; ++k)
+        if (try_subset({i, j, k})) return true;
+    }
+  }
+  return false;
+}
+
+// Potential gradients in sorted principal space: Mohr-Coulomb pair (i major, j minor), Rankine i.
+Vec3 mc_flow(int i, int j, double psi_deg) {
+  const double m = (1.0 + std::sin(deg(psi_deg))) / (1.0 - std::sin(deg(psi_deg)));
+  Vec3 b = Vec3::Zero();
+  b[i] = m;
+  b[j] = -1.0;
+  return b;
+}
+Vec3 tension_flow(int i) {
+  return Vec3::Unit(i);
+}
+
+bool is_mc_region(Region r) {
+  return r == Region::plane || r == Region::compression_edge || r == Region::extension_edge ||
+         r == Region::apex || r == Region::plane_tension_line ||
+         r == Region::compression_tension_corner || r == Region::extension_tension_corner;
+}
+bool is_tension_region(Region r) {
+  return r == Region::tension_plane || r == Region::tension_edge || r == Region::tension_apex ||
+         r == Region::plane_tension_line || r == Region::compression_tension_corner ||
+         r == Region::extension_tension_corner;
+}
+
+// The potential gradients of the surfaces active in each region (independent of the library).
+std::vector<Vec3> active_flows(Region r, double psi) {
+  switch (r) {
+    case Region::plane:
+      return {mc_flow(0, 2, psi)};
+    case Region::compression_edge:
+      return {mc_flow(0, 2, psi), mc_flow(1, 2, psi)};
+    case Region::extension_edge:
+      return {mc_flow(0, 2, psi), mc_flow(0, 1, psi)};
+    case Region::apex:  // all six planes meet at the apex
+      return {mc_flow(0, 2, psi), mc_flow(1, 2, psi), mc_flow(0, 1, psi),
+              mc_flow(2, 0, psi), mc_flow(2, 1, psi), mc_flow(1, 0, psi)};
+    case Region::tension_plane:
+      return {tension_flow(0)};
+    case Region::tension_edge:
+      return {tension_flow(0), tension_flow(1)};
+    case Region::tension_apex:
+      return {tension_flow(0), tension_flow(1), tension_flow(2)};
+    case Region::plane_tension_line:
+      return {mc_flow(0, 2, psi), tension_flow(0)};
+    case Region::compression_tension_corner:
+      return {mc_flow(0, 2, psi), mc_flow(1, 2, psi), tension_flow(0), tension_flow(1)};
+    case Region::extension_tension_corner:
+      return {mc_flow(0, 2, psi), mc_flow(0, 1, psi), tension_flow(0)};
+    case Region::elastic:
+      break;
+  }
+  return {};
+}
+
+struct Config {
+  const char* label;
+  MohrCoulombParameters parameters;
+  double low, high;  // sampling box of the principal trial stresses [Pa]
+  std::vector<Region> expected;
+};
+
+std::vector<Config> configs() {
+  const std::vector<Region> mc = {Region::elastic, Region::plane, Region::compression_edge,
+                                  Region::extension_edge, Region::apex};
+  const std::vector<Region> all = {Region::elastic,
+                                   Region::plane,
+                                   Region::compression_edge,
+                                   Region::extension_edge,
+                                   Region::tension_plane,
+                                   Region::tension_edge,
+                                   Region::tension_apex,
+                                   Region::plane_tension_line,
+                                   Region::compression_tension_corner,
+                                   Region::extension_tension_corner};
+  const std::vector<Region> tresca = {Region::elastic, Region::plane, Region::compression_edge,
+                                      Region::extension_edge};
+  return {
+      {"c20k-phi30-psi10", make(20e3, 30, 10), -300e3, 80e3, mc},
+      {"c20k-phi30-psi30", make(20e3, 30, 30), -300e3, 80e3, mc},
+      {"c0-phi35-psi0", make(0, 35, 0), -300e3, 50e3, mc},
+      {"c20k-phi25-psi0", make(20e3, 25, 0), -300e3, 100e3, mc},
+      {"c20k-phi30-psi10-t10k", make(20e3, 30, 10, 10e3), -250e3, 60e3, all},
+      {"c20k-phi40-psi40-t0", make(20e3, 40, 40, 0.0), -100e3, 60e3, all},
+      {"c50k-phi0-tresca", make(50e3, 0, 0), -300e3, 300e3, tresca},
+      {"c50k-phi0-t20k", make(50e3, 0, 0, 20e3), -300e3, 100e3, all},
+  };
+}
+
+// (b) For random trial stresses in every region: the returned stress is admissible and on the
+// active surfaces, the plastic strain D^-1 (trial - returned) is coaxial with the trial stress and
+// lies in the cone of the active potential gradients, and the plastic shear strain grows by
+// sqrt(2/3) |dev d eps_p|.
+TEST(MohrCoulomb, ReturnIsOnTheSurfaceWithPlasticStrainAlongThePotential) {
+  const Mat6 compliance = hooke(kE, kNu).inverse();
+  for (const Config& config : configs()) {
+    SCOPED_TRACE(config.label);
+    const MohrCoulombParameters& p = config.parameters;
+    const MohrCoulomb model(p);
+    const double t = model.effective_tension_cutoff();
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<double> u(config.low, config.high);
+    std::map<Region, int> hits;
+    for (int sample = 0; sample < 20000; ++sample) {
+      const Vec3 principal(u(rng), u(rng), u(rng));
+      const Vec6 trial =
+          rotate(diagonal6(principal[0], principal[1], principal[2]), random_rotation(rng));
+      MaterialState state;
+      state.stress = trial;
+      state.void_ratio = 0.7;
+      const UpdateResult result = model.update(state, Vec6::Zero());
+      ASSERT_TRUE(result.ok);
+      EXPECT_EQ(state.void_ratio, 0.7);
+
+      const Spectral before = spectral(trial);
+      const MohrCoulomb::PrincipalReturn ret = model.return_principal(before.values);
+      ASSERT_TRUE(ret.consistent);
+      ++hits[ret.region];
+
+      const double scale = std::max(trial.cwiseAbs().maxCoeff(), 2.0 * p.cohesion);
+      const Vec3 after = spectral(state.stress).values;
+      // Admissible.
+      EXPECT_LE(mc_function(after, p.cohesion, p.friction_angle_deg), 1e-9 * scale);
+      if (std::isfinite(t)) {
+        EXPECT_LE(after[0] - t, 1e-9 * scale);
+      }
+      if (ret.region == Region::elastic) {
+        EXPECT_EQ(state.stress, trial);
+        EXPECT_EQ(state.plastic_shear_strain, 0.0);
+        continue;
+      }
+      // On the active surfaces.
+      if (is_mc_region(ret.region)) {
+        EXPECT_NEAR(mc_function(after, p.cohesion, p.friction_angle_deg), 0.0, 1e-9 * scale);
+      }
+      if (is_tension_region(ret.region)) {
+        EXPECT_NEAR(after[0], t, 1e-9 * scale);
+      }
+      if (ret.region == Region::apex) {
+        EXPECT_NEAR((after - Vec3::Constant(p.apex_stress())).norm(), 0.0, 1e-9 * scale);
+      }
+
+      // The plastic strain in the trial's principal axes: diagonal, and in the cone.
+      const Vec6 plastic = compliance * (trial - state.stress);
+      const Mat3 in_axes = before.vectors.transpose() * to_matrix(plastic) * before.vectors;
+      const double size = plastic.norm();
+      EXPECT_LE((in_axes - Mat3(in_axes.diagonal().asDiagonal())).norm(), 1e-8 * size);
+      // At the apex with psi = 0 the potential has no volumetric part, so no return along it
+      // reaches the apex: the apex takes exactly the trial stresses with a mean stress beyond it.
+      if (ret.region == Region::apex && p.dilatancy_angle_deg == 0.0) {
+        EXPECT_GE(trace(trial) / 3.0, p.apex_stress() - 1e-9 * scale);
+      } else {
+        EXPECT_TRUE(
+            in_cone(active_flows(ret.region, p.dilatancy_angle_deg), in_axes.diagonal(), 1e-8))
+            << "region " << static_cast<int>(ret.region) << " trial " << before.values.transpose()
+            << " returned " << after.transpose();
+      }
+      const double expected_shear = std::sqrt(2.0 / 3.0) * deviator(plastic).norm();
+      EXPECT_NEAR(state.plastic_shear_strain, expected_shear, 1e-9 * expected_shear + 1e-18);
+    }
+    for (Region r : config.expected) EXPECT_GE(hits[r], 5) << "region " << static_cast<int>(r);
+  }
+}
+
+// The return map is continuous: walking along straight lines through all regions in small steps,
+// the returned (sorted) stress never jumps. A gap or an overlap between the regions would.
+TEST(MohrCoulomb, ReturnMapIsContinuousAcrossRegionBoundaries) {
+  for (const Config& config : configs()) {
+    SCOPED_TRACE(config.label);
+    const MohrCoulomb model(config.parameters);
+    std::mt19937 rng(99);
+    std::uniform_real_distribution<double> u(config.low, config.high);
+    const double step_size = 1e-3 * (config.high - config.low);
+    auto returned = [&](const Vec3& s) {
+      Vec3 sorted = s;
+      std::sort(sorted.data(), sorted.data() + 3, std::greater<double>());
+      return model.return_principal(sorted).stress;
+    };
+    for (int line = 0; line < 200; ++line) {
+      const Vec3 a(u(rng), u(rng), u(rng));
+      const Vec3 b(u(rng), u(rng), u(rng));
+      const int steps = static_cast<int>((b - a).norm() / step_size) + 1;
+      Vec3 previous = returned(a);
+      for (int i = 1; i <= steps; ++i) {
+        const Vec3 s = a + (b - a) * (static_cast<double>(i) / steps);
+        const Vec3 current = returned(s);
+        ASSERT_LE((current - previous).norm(), 5.0 * (b - a).norm() / steps)
+            << "jump near " << s.transpose();
+        previous = current;
+      }
+    }
+  }
+}
+
+// (a) Below yield the update is Hooke's law exactly, and the void ratio follows (1 + e) tr(d eps).
+TEST(MohrCoulomb, ElasticBelowYieldEqualsHooke) {
+  const MohrCoulomb model(make(10e3, 30, 5, 5e3));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 100; ++i) {
+    MaterialState state;
+    state.stress = diagonal6(-100e3, -100e3, -100e3);
+    state.void_ratio = 0.65;
+    Vec6 d_eps;
+    for (int j = 0; j < 6; ++j) d_eps[j] = 1e-5 * u(rng);
+    const Vec6 expected = state.stress + hooke(kE, kNu) * d_eps;
+    ASSERT_LT(model.mohr_coulomb_function(expected), 0.0);
+    const UpdateResult result = model.update(state, d_eps);
+    ASSERT_TRUE(result.ok);
+    EXPECT_LE((state.stress - expected).norm(), 1e-9 * expected.norm());
+    EXPECT_NEAR(state.void_ratio, 0.65 + 1.65 * trace(d_eps), 1e-15);
+    EXPECT_EQ(state.plastic_shear_strain, 0.0);
+  }
+}
+
+TEST(MohrCoulomb, TangentIsElasticAndWaveModulusIsConstrainedModulus) {
+  const MohrCoulomb model(make(10e3, 30, 5));
+  MaterialState state;
+  state.stress = diagonal6(-1e5, -2e5, -3e5);
+  EXPECT_LE((model.tangent(state, Vec6::Ones()) - hooke(kE, kNu)).norm(), 1e-6);
+  const double constrained = kE * (1.0 - kNu) / ((1.0 + kNu) * (1.0 - 2.0 * kNu));
+  EXPECT_NEAR(model.wave_modulus(state), constrained, 1e-9 * constrained);
+  EXPECT_EQ(model.name(), "mohr-coulomb");
+}
+
+TEST(MohrCoulomb, NonFiniteInputFailsAndLeavesTheStateUnchanged) {
+  const MohrCoulomb model(make(10e3, 30, 5));
+  MaterialState state;
+  state.stress = diagonal6(-1e5, -1e5, -1e5);
+  state.void_ratio = 0.7;
+  const MaterialState before = state;
+  Vec6 d_eps = Vec6::Zero();
+  d_eps[2] = std::numeric_limits<double>::quiet_NaN();
+  UpdateResult result = model.update(state, d_eps);
+  EXPECT_FALSE(result.ok);
+  EXPECT_NE(std::string(result.message), "");
+  EXPECT_EQ(state.stress, before.stress);
+  EXPECT_EQ(state.void_ratio, before.void_ratio);
+  state.stress[4] = kInf;
+  result = model.update(state, Vec6::Zero());
+  EXPECT_FALSE(result.ok);
+  state = before;
+  state.void_ratio = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_FALSE(model.update(state, Vec6::Zero()).ok);
+}
+
+// The model is exact, so the stress control can be held far tighter than the driver's default.
+MixedControlSettings tight_control() {
+  MixedControlSettings settings;
+  settings.stress_tolerance = 1e-3;
+  settings.relative_tolerance = 1e-12;
+  settings.max_iterations = 100;
+  return settings;
+}
+
+// Drained triaxial test with constant cell pressure: component 0 axial (strain controlled),
+// components 1 and 2 at the cell pressure, no shear strain. Returns the driver after n steps.
+struct Triaxial {
+  std::vector<double> axial_stress;  // tension positive
+  std::vector<Vec6> strain;
+  std::vector<double> plastic_shear;
+};
+Triaxial run_triaxial(const MohrCoulomb& model, double cell_pressure, double axial_step,
+                      int steps) {
+  MaterialState initial;
+  initial.stress = diagonal6(-cell_pressure, -cell_pressure, -cell_pressure);
+  initial.void_ratio = 0.6;
+  MixedControlDriver driver(model, initial, tight_control());
+  MixedIncrement inc;
+  inc.stress_controlled = {false, true, true, false, false, false};
+  inc.strain_increment[0] = axial_step;
+  inc.stress_target = initial.stress;
+  Triaxial out;
+  for (int i = 0; i < steps; ++i) {
+    driver.apply(inc);
+    out.axial_stress.push_back(driver.state().stress[0]);
+    out.strain.push_back(driver.strain());
+    out.plastic_shear.push_back(driver.state().plastic_shear_strain);
+    EXPECT_NEAR(driver.state().stress[1], -cell_pressure, 1e-2);
+    EXPECT_NEAR(driver.state().stress[2], -cell_pressure, 1e-2);
+  }
+  return out;
+}
+
+// (c) The limit axial stress in triaxial compression is the closed form
+// s1 = s3 (1 + sin phi)/(1 - sin phi) + 2 c cos phi / (1 - sin phi) (compression positive), and it
+// is approached elastically with slope E and never overshot.
+TEST(MohrCoulomb, TriaxialCompressionLimitMatchesClosedForm) {
+  struct Case {
+    double c, phi, psi, cell;
+  };
+  for (const Case& cs : {Case{0.0, 30.0, 0.0, 100e3}, Case{10e3, 35.0, 5.0, 50e3},
+                         Case{25e3, 20.0, 20.0, 200e3}, Case{40e3, 0.0, 0.0, 100e3}}) {
+    SCOPED_TRACE(testing::Message() << "c " << cs.c << " phi " << cs.phi << " cell " << cs.cell);
+    const MohrCoulomb model(make(cs.c, cs.phi, cs.psi));
+    const double s = std::sin(deg(cs.phi));
+    const double limit =
+        cs.cell * (1.0 + s) / (1.0 - s) + 2.0 * cs.c * std::cos(deg(cs.phi)) / (1.0 - s);
+    const Triaxial tx = run_triaxial(model, cs.cell, -1e-4, 400);
+    // First step elastic: d sigma_axial / d eps_axial = E at constant lateral stress.
+    EXPECT_NEAR((tx.axial_stress[0] + cs.cell) / -1e-4, kE, 1e-6 * kE);
+    double peak = 0.0;
+    for (double a : tx.axial_stress) peak = std::max(peak, -a);
+    EXPECT_NEAR(peak, limit, 1e-6 * limit);
+    EXPECT_NEAR(-tx.axial_stress.back(), limit, 1e-6 * limit);
+    EXPECT_GT(tx.plastic_shear.back(), 0.0);
+  }
+}
+
+// (d) Triaxial extension (axial stress the minor compression) reaches the other edge:
+// s_axial = s3 (1 - sin phi)/(1 + sin phi) - 2 c cos phi / (1 + sin phi) (compression positive).
+TEST(MohrCoulomb, TriaxialExtensionLimitMatchesClosedForm) {
+  struct Case {
+    double c, phi, psi, cell;
+  };
+  for (const Case& cs :
+       {Case{0.0, 30.0, 0.0, 100e3}, Case{10e3, 35.0, 10.0, 150e3}, Case{5e3, 25.0, 25.0, 200e3}}) {
+    SCOPED_TRACE(testing::Message() << "c " << cs.c << " phi " << cs.phi << " cell " << cs.cell);
+    const MohrCoulomb model(make(cs.c, cs.phi, cs.psi));
+    const double s = std::sin(deg(cs.phi));
+    const double limit =
+        cs.cell * (1.0 - s) / (1.0 + s) - 2.0 * cs.c * std::cos(deg(cs.phi)) / (1.0 + s);
+    const Triaxial tx = run_triaxial(model, cs.cell, 1e-4, 300);
+    double lowest = kInf;
+    for (double a : tx.axial_stress) lowest = std::min(lowest, -a);
+    EXPECT_NEAR(lowest, limit, 1e-6 * cs.cell);
+    EXPECT_NEAR(-tx.axial_stress.back(), limit, 1e-6 * cs.cell);
+    // The closed form differs from the compression one: the edge is really the extension edge.
+    const MohrCoulomb::PrincipalReturn ret =
+        model.return_principal(Vec3(-limit, -cs.cell, -cs.cell) + Vec3(1e3, -1e2, -1e2));
+    EXPECT_EQ(ret.region, Region::extension_edge);
+  }
+}
+
+// (e) At the limit of triaxial compression all strain is plastic and the volumetric rate is the
+// one of the potential: d eps_v / d eps_axial = 1 - m, m = (1 + sin psi)/(1 - sin psi); with
+// psi = phi this is the associated value 1 - k, with psi = 0 there is no volume change.
+TEST(MohrCoulomb, DilatancyAtTheLimitFollowsThePotential) {
+  const double phi = 35.0;
+  for (double psi : {phi, phi / 2.0, 0.0}) {
+    SCOPED_TRACE(testing::Message() << "psi " << psi);
+    const MohrCoulomb model(make(5e3, phi, psi));
+    const Triaxial tx = run_triaxial(model, 100e3, -1e-4, 400);
+    const Vec6 d_eps = tx.strain.back() - tx.strain[199];  // well past the limit
+    const double rate = trace(d_eps) / d_eps[0];
+    const double m = (1.0 + std::sin(deg(psi))) / (1.0 - std::sin(deg(psi)));
+    EXPECT_NEAR(rate, 1.0 - m, 1e-6);
+    if (psi == phi) {
+      const double k = (1.0 + std::sin(deg(phi))) / (1.0 - std::sin(deg(phi)));
+      EXPECT_NEAR(rate, 1.0 - k, 1e-6);
+      EXPECT_LT(rate, -1.0);  // dilation: volume grows while the sample shortens
+    }
+    if (psi == 0.0) {
+      EXPECT_NEAR(trace(d_eps), 0.0, 1e-9 * std::abs(d_eps[0]));
+    }
+    // Plastic shear strain grows by the triaxial shear strain of the (all plastic) increment.
+    const double gained = tx.plastic_shear.back() - tx.plastic_shear[199];
+    EXPECT_NEAR(gained, std::sqrt(2.0 / 3.0) * deviator(d_eps).norm(), 1e-6 * gained);
+  }
+}
+
+// Tension cut-off in uniaxial extension from zero stress: the axial stress stops at t.
+TEST(MohrCoulomb, UniaxialTensionStopsAtTheCutoff) {
+  const MohrCoulomb model(make(30e3, 30, 10, 8e3));
+  MaterialState initial;
+  MixedControlDriver driver(model, initial, tight_control());
+  MixedIncrement inc;
+  inc.stress_controlled = {false, true, true, false, false, false};
+  inc.strain_increment[0] = 2e-5;
+  double top = -kInf;
+  for (int i = 0; i < 100; ++i) {
+    driver.apply(inc);
+    top = std::max(top, driver.state().stress[0]);
+  }
+  EXPECT_NEAR(top, 8e3, 1e-6 * 8e3);
+  EXPECT_NEAR(driver.state().stress[0], 8e3, 1e-6 * 8e3);
+  EXPECT_NEAR(model.tension_function(driver.state().stress), 0.0, 1e-3);
+}
+
+// (f) Every impossible value is rejected with an InvalidValue that names its key.
+TEST(MohrCoulomb, ValidationNamesTheKey) {
+  struct Bad {
+    std::function<void(MohrCoulombParameters&)> change;
+    const char* key;
+  };
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Bad> bad = {
+      {[](auto& p) { p.young_modulus = 0.0; }, "young_modulus"},
+      {[](auto& p) { p.young_modulus = -1e6; }, "young_modulus"},
+      {[&](auto& p) { p.young_modulus = nan; }, "young_modulus"},
+      {[](auto& p) { p.young_modulus = kInf; }, "young_modulus"},
+      {[](auto& p) { p.poisson_ratio = 0.5; }, "poisson_ratio"},
+      {[](auto& p) { p.poisson_ratio = -1.0; }, "poisson_ratio"},
+      {[](auto& p) { p.cohesion = -1.0; }, "cohesion"},
+      {[&](auto& p) { p.cohesion = nan; }, "cohesion"},
+      {[](auto& p) { p.friction_angle_deg = -1.0; }, "friction_angle_deg"},
+      {[](auto& p) { p.friction_angle_deg = 90.0; }, "friction_angle_deg"},
+      {[&](auto& p) { p.friction_angle_deg = nan; }, "friction_angle_deg"},
+      {[](auto& p) { p.dilatancy_angle_deg = -1.0; }, "dilatancy_angle_deg"},
+      {[](auto& p) { p.dilatancy_angle_deg = 31.0; }, "dilatancy_angle_deg"},
+      {[](auto& p) { p.tension_cutoff = -1.0; }, "tension_cutoff"},
+      {[](auto& p) { p.tension_cutoff = 10e3 / std::tan(deg(30.0)) * 1.001; }, "tension_cutoff"},
+      {[&](auto& p) { p.tension_cutoff = nan; }, "tension_cutoff"},
+      {[](auto& p) { p.tension_cutoff = -kInf; }, "tension_cutoff"},
+      {[](auto& p) {
+         p.cohesion = 0.0;
+         p.friction_angle_deg = 0.0;
+         p.dilatancy_angle_deg = 0.0;
+       },
+       "cohesion"},
+  };
+  for (const Bad& b : bad) {
+    MohrCoulombParameters p = make(10e3, 30, 10);
+    b.change(p);
+    try {
+      p.validate();
+      ADD_FAILURE() << "accepted a bad " << b.key;
+    } catch (const InvalidValue& e) {
+      EXPECT_NE(std::string(e.what()).find(b.key), std::string::npos) << e.what();
+      EXPECT_NE(e.key().find(b.key), std::string::npos);
+    }
+    EXPECT_THROW(MohrCoulomb{p}, InvalidValue) << b.key;
+  }
+  // Edge values that are allowed.
+  for (double t : {0.0, 10e3 / std::tan(deg(30.0)), kInf})
+    EXPECT_NO_THROW(make(10e3, 30, 30, t).validate()) << t;
+  EXPECT_NO_THROW(make(10e3, 0, 0, 1e9).validate());  // Tresca: no apex, any finite cut-off
+  EXPECT_NO_THROW(make(0, 30, 0, 0.0).validate());
+  EXPECT_FALSE(MohrCoulomb(make(10e3, 30, 10, 10e3 / std::tan(deg(30.0)))).has_tension_cutoff());
+  EXPECT_TRUE(MohrCoulomb(make(10e3, 30, 10, 1e3)).has_tension_cutoff());
+}
+
+// (g) Isotropy/objectivity: a rotated strain increment from a rotated stress gives the rotated
+// result, plastic returns included.
+TEST(MohrCoulomb, RotatedInputGivesRotatedResult) {
+  for (const auto& p : {make(15e3, 32, 8), make(15e3, 32, 8, 5e3)}) {
+    const MohrCoulomb model(p);
+    std::mt19937 rng(2024);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    int plastic = 0;
+    for (int i = 0; i < 300; ++i) {
+      MaterialState a;
+      a.stress =
+          rotate(diagonal6(-100e3 + 50e3 * u(rng), -100e3 + 50e3 * u(rng), -100e3 + 50e3 * u(rng)),
+                 random_rotation(rng));
+      a.void_ratio = 0.7;
+      Vec6 d_eps;
+      for (int j = 0; j < 6; ++j) d_eps[j] = 3e-3 * u(rng);
+      const Mat3 q = random_rotation(rng);
+      MaterialState b = a;
+      b.stress = rotate(a.stress, q);
+      ASSERT_TRUE(model.update(a, d_eps).ok);
+      ASSERT_TRUE(model.update(b, rotate(d_eps, q)).ok);
+      const Vec6 expected = rotate(a.stress, q);
+      EXPECT_LE((b.stress - expected).norm(), 1e-9 * (1e5 + expected.norm()));
+      EXPECT_NEAR(b.plastic_shear_strain, a.plastic_shear_strain,
+                  1e-9 * a.plastic_shear_strain + 1e-18);
+      EXPECT_NEAR(b.void_ratio, a.void_ratio, 1e-14);
+      if (a.plastic_shear_strain > 0.0) ++plastic;
+    }
+    EXPECT_GT(plastic, 100);
+  }
+}
+
+}  // namespace
+}  // namespace pilempm
