@@ -18,6 +18,10 @@ UpdateResult MixedControlDriver::apply(const MixedIncrement& increment) {
     if (increment.stress_controlled[i]) unknown[n++] = i;
 
   Vec6 d_eps = increment.strain_increment;
+  // First guess for the solved components: what the previous increment needed, when it was
+  // controlled the same way (smooth loading programmes need few corrections then).
+  if (increment.stress_controlled == last_control_)
+    for (int r = 0; r < n; ++r) d_eps[unknown[r]] = last_increment_[unknown[r]];
   MaterialState trial = state_;
   UpdateResult result = model_.update(trial, d_eps);
   auto fail_if_bad = [&](const UpdateResult& r) {
@@ -79,6 +83,7 @@ UpdateResult MixedControlDriver::apply(const MixedIncrement& increment) {
   state_ = trial;
   strain_ += d_eps;
   last_increment_ = d_eps;
+  last_control_ = increment.stress_controlled;
   return result;
 }
 

@@ -51,6 +51,7 @@ class MixedControlDriver {
   MixedControlSettings settings_;
   Vec6 strain_ = Vec6::Zero();
   Vec6 last_increment_ = Vec6::Zero();
+  std::array<bool, 6> last_control_{};
   long count_ = 0;
 };
 
