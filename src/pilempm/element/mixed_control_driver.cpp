@@ -64,10 +64,17 @@ UpdateResult MixedControlDriver::apply(const MixedIncrement& increment) {
             "element test: stress control did not converge at increment {} (residual {:.3g} Pa "
             "after {} iterations, acceptable {:.3g} Pa)",
             count_, res.cwiseAbs().maxCoeff(), settings_.max_iterations, acceptable));
-      const VecX step = -J.fullPivLu().solve(res);
-      for (int r = 0; r < n; ++r) d_eps[unknown[r]] += step[r];
-      trial = state_;
-      result = model_.update(trial, d_eps);
+      VecX step = -J.fullPivLu().solve(res);
+      // A correction the model cannot integrate (far outside the range of the tangent) is
+      // halved until it can; a model failure on the converged increment is still an error.
+      const Vec6 before = d_eps;
+      for (int halvings = 0;; ++halvings) {
+        for (int r = 0; r < n; ++r) d_eps[unknown[r]] = before[unknown[r]] + step[r];
+        trial = state_;
+        result = model_.update(trial, d_eps);
+        if (result.ok || halvings == 20) break;
+        step *= 0.5;
+      }
       fail_if_bad(result);
       const VecX new_res = residual(trial);
       const VecX change = new_res - res;
