@@ -1,0 +1,126 @@
+#include "pilempm/study/figures.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pilempm/core/error.hpp"
+
+namespace pilempm {
+
+namespace {
+
+std::string json_number(double value) {
+  if (!std::isfinite(value)) throw Error(fmt::format("figures.json: non-finite number {}", value));
+  return fmt::format("{}", value + 0.0);
+}
+
+std::string axis_json(const AxisSpec& axis) {
+  std::string out = "{\"label\": " + json_quote(axis.label);
+  if (axis.log) out += ", \"log\": true";
+  if (axis.limits)
+    out += fmt::format(", \"limits\": [{}, {}]", json_number(axis.limits->first),
+                       json_number(axis.limits->second));
+  return out + "}";
+}
+
+std::string style_json(const SeriesStyle& style) {
+  std::string out =
+      "{\"linestyle\": " + json_quote(style.linestyle.empty() ? "none" : style.linestyle);
+  if (!style.color.empty()) out += ", \"color\": " + json_quote(style.color);
+  if (!style.marker.empty()) out += ", \"marker\": " + json_quote(style.marker);
+  out += ", \"linewidth\": " + json_number(style.linewidth);
+  if (style.markersize > 0.0) out += ", \"markersize\": " + json_number(style.markersize);
+  return out + "}";
+}
+
+std::string series_json(const SeriesSpec& s) {
+  std::string where = "{";
+  for (std::size_t i = 0; i < s.where.size(); ++i)
+    where += (i ? ", " : "") + json_quote(s.where[i].first) + ": " + json_quote(s.where[i].second);
+  where += "}";
+  return fmt::format(
+      "{{\"csv\": {}, \"where\": {}, \"x\": {}, \"y\": {}, \"label\": {}, \"style\": {}}}",
+      json_quote(s.csv), where, json_quote(s.x), json_quote(s.y), json_quote(s.label),
+      style_json(s.style));
+}
+
+std::string panel_json(const PanelSpec& p) {
+  std::string out = "{\"title\": " + json_quote(p.title) + ", \"legend\": " + json_quote(p.legend);
+  if (!p.legend_title.empty()) out += ", \"legend_title\": " + json_quote(p.legend_title);
+  if (p.legend_columns > 1) out += fmt::format(", \"legend_columns\": {}", p.legend_columns);
+  out += ",\n          \"x\": " + axis_json(p.x) + ",\n          \"y\": " + axis_json(p.y);
+  out += ",\n          \"series\": [";
+  for (std::size_t i = 0; i < p.series.size(); ++i)
+    out += (i ? ",\n            " : "\n            ") + series_json(p.series[i]);
+  return out + "]}";
+}
+
+}  // namespace
+
+std::string json_quote(std::string_view text) {
+  std::string out = "\"";
+  for (char ch : text) {
+    switch (ch) {
+      case '"':
+        out += "\\\"";
+        break;
+      case '\\':
+        out += "\\\\";
+        break;
+      case '\n':
+        out += "\\n";
+        break;
+      case '\t':
+        out += "\\t";
+        break;
+      case '\r':
+        out += "\\r";
+        break;
+      default:
+        if (static_cast<unsigned char>(ch) < 0x20)
+          out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+        else
+          out += ch;
+    }
+  }
+  return out + "\"";
+}
+
+std::string figures_json(const std::vector<FigureSpec>& figures) {
+  std::string out = "{\n  \"version\": 1,\n  \"figures\": [";
+  for (std::size_t f = 0; f < figures.size(); ++f) {
+    const FigureSpec& fig = figures[f];
+    if (fig.panels.empty() || fig.rows < 1 || fig.cols < 1 ||
+        fig.panels.size() > static_cast<std::size_t>(fig.rows * fig.cols))
+      throw Error(fmt::format("figure {}: {} panels do not fit a {}x{} layout", fig.file,
+                              fig.panels.size(), fig.rows, fig.cols));
+    out += f ? ",\n    {" : "\n    {";
+    out += "\"file\": " + json_quote(fig.file) + ", \"title\": " + json_quote(fig.title);
+    out += fmt::format(", \"layout\": [{}, {}]", fig.rows, fig.cols);
+    if (fig.width_in > 0.0 && fig.height_in > 0.0)
+      out += fmt::format(", \"size_in\": [{}, {}]", json_number(fig.width_in),
+                         json_number(fig.height_in));
+    if (fig.sharex) out += ", \"sharex\": true";
+    if (fig.sharey) out += ", \"sharey\": true";
+    if (fig.shared_legend) out += ", \"shared_legend\": true";
+    if (fig.legend_columns > 0) out += fmt::format(", \"legend_columns\": {}", fig.legend_columns);
+    out += ",\n      \"panels\": [";
+    for (std::size_t p = 0; p < fig.panels.size(); ++p)
+      out += (p ? ",\n        " : "\n        ") + panel_json(fig.panels[p]);
+    out += "]}";
+  }
+  return out + "\n  ]\n}\n";
+}
+
+std::vector<std::string> figure_csv_files(const std::vector<FigureSpec>& figures) {
+  std::vector<std::string> files;
+  for (const FigureSpec& fig : figures)
+    for (const PanelSpec& panel : fig.panels)
+      for (const SeriesSpec& s : panel.series)
+        if (std::find(files.begin(), files.end(), s.csv) == files.end()) files.push_back(s.csv);
+  return files;
+}
+
+}  // namespace pilempm
