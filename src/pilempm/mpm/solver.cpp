@@ -1,0 +1,533 @@
+#include "pilempm/mpm/solver.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "pilempm/core/error.hpp"
+#include "pilempm/mpm/in_plane_rotation.hpp"
+
+namespace pilempm::mpm {
+
+namespace {
+
+// Visits the nodes of one particle's stencil with S_i, dS_i/dx, dS_i/dy at node index n. The
+// usual 3 x 3 stencil runs as a fixed loop the compiler unrolls (no branch on the counts).
+template <class NodeVisitor>
+inline void for_each_node(const Stencil& stencil, int nx, NodeVisitor&& visit) {
+  if (stencil.x.count == 3 && stencil.y.count == 3) {
+    for (int j = 0; j < 3; ++j) {
+      const int row = (stencil.y.first + j) * nx + stencil.x.first;
+      const double weight_y = stencil.y.weight[j], gradient_y = stencil.y.gradient[j];
+      for (int i = 0; i < 3; ++i) {
+        visit(row + i, stencil.x.weight[i] * weight_y, stencil.x.gradient[i] * weight_y,
+              stencil.x.weight[i] * gradient_y);
+      }
+    }
+    return;
+  }
+  for (int j = 0; j < stencil.y.count; ++j) {
+    const int row = (stencil.y.first + j) * nx + stencil.x.first;
+    const double weight_y = stencil.y.weight[j], gradient_y = stencil.y.gradient[j];
+    for (int i = 0; i < stencil.x.count; ++i) {
+      visit(row + i, stencil.x.weight[i] * weight_y, stencil.x.gradient[i] * weight_y,
+            stencil.x.weight[i] * gradient_y);
+    }
+  }
+}
+
+inline double sign(double value) {
+  return value > 0.0 ? 1.0 : (value < 0.0 ? -1.0 : 0.0);
+}
+
+}  // namespace
+
+void SolverSettings::validate() const {
+  if (!(flip_fraction >= 0.0 && flip_fraction <= 1.0))
+    throw InvalidValue("flip_fraction", format_value(flip_fraction), "in [0, 1]");
+  if (!(gravity >= 0.0 && std::isfinite(gravity)))
+    throw InvalidValue("gravity_m_per_s2", format_value(gravity), ">= 0 (acts along -y)");
+  if (!(gravity_multiplier >= 0.0 && std::isfinite(gravity_multiplier)))
+    throw InvalidValue("gravity_multiplier", format_value(gravity_multiplier), ">= 0");
+  if (!(local_damping >= 0.0 && local_damping < 1.0))
+    throw InvalidValue("local_damping", format_value(local_damping), "in [0, 1)");
+  if (!(mass_scaling >= 1.0 && std::isfinite(mass_scaling)))
+    throw InvalidValue("mass_scaling", format_value(mass_scaling), ">= 1");
+  if (!(courant_number > 0.0 && courant_number <= 1.0))
+    throw InvalidValue("courant_number", format_value(courant_number), "in (0, 1]");
+  if (!(fixed_time_step >= 0.0 && std::isfinite(fixed_time_step)))
+    throw InvalidValue("fixed_time_step_s", format_value(fixed_time_step), ">= 0 (0: CFL step)");
+  if (wave_speed_interval < 1)
+    throw InvalidValue("wave_speed_interval", std::to_string(wave_speed_interval), ">= 1");
+  if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0 (0: default)");
+}
+
+Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
+               SolverSettings settings)
+    : grid_(std::move(grid)),
+      particles_(std::move(particles)),
+      materials_(std::move(materials)),
+      settings_(settings) {
+  settings_.validate();
+  if (materials_.empty()) throw InvalidValue("materials", "none", "at least one model");
+  for (std::size_t m = 0; m < materials_.size(); ++m)
+    if (!materials_[m]) throw InvalidValue(fmt::format("material {}", m), "null", "a model");
+  for (const ModelPtr& model : materials_) models_.push_back(model.get());
+  if (settings_.geometry == Geometry::axisymmetric && grid_.x_axis().start() < 0.0)
+    throw InvalidValue("grid x start (radius)", format_value(grid_.x_axis().start()),
+                       ">= 0 in axisymmetry");
+  check_particles();
+
+  if (settings_.geometry == Geometry::axisymmetric && grid_.x_axis().start() == 0.0)
+    grid_.set_axis_of_symmetry(true);
+
+  threads_ = settings_.threads > 0 ? settings_.threads : omp_get_max_threads();
+  const std::size_t count = particles_.size();
+  stencils_.resize(count);
+  start_radius_.resize(count);
+  thread_grids_.resize(threads_ > 1 ? static_cast<std::size_t>(threads_) : 0);
+  thread_accounts_.resize(static_cast<std::size_t>(threads_));
+  const auto nodes = static_cast<std::size_t>(grid_.node_count());
+  for (ThreadGrid& buffer : thread_grids_) {
+    for (std::vector<double>* field :
+         {&buffer.mass, &buffer.momentum_x, &buffer.momentum_y, &buffer.force_x, &buffer.force_y})
+      field->assign(nodes, 0.0);
+  }
+
+  for (std::size_t p = 0; p < count; ++p) {
+    const double speed = particles_.velocity[p].norm();
+    energies_.kinetic += 0.5 * settings_.mass_scaling * particles_.mass[p] * speed * speed;
+    max_particle_speed_ = std::max(max_particle_speed_, speed);
+  }
+}
+
+void Solver::check_particles() const {
+  const Particles& p = particles_;
+  const std::size_t n = p.size();
+  for (std::size_t size :
+       {p.velocity.size(), p.mass.size(), p.initial_volume.size(), p.volume.size(),
+        p.initial_half_size.size(), p.half_size.size(), p.deformation_gradient.size(),
+        p.out_of_plane_stretch.size(), p.material.size(), p.state.size(), p.external_force.size()})
+    if (size != n)
+      throw InvalidValue("particle field length", std::to_string(size),
+                         fmt::format("{} (the number of positions)", n));
+  for (std::size_t i = 0; i < n; ++i) {
+    auto what = [i](const char* field) { return fmt::format("particle {} {}", i, field); };
+    if (p.material[i] < 0 || p.material[i] >= static_cast<int>(materials_.size()))
+      throw InvalidValue(what("material"), std::to_string(p.material[i]),
+                         fmt::format("in [0, {}]", materials_.size() - 1));
+    if (!(p.mass[i] > 0.0 && std::isfinite(p.mass[i])))
+      throw InvalidValue(what("mass"), format_value(p.mass[i]), "> 0");
+    if (!(p.volume[i] > 0.0 && std::isfinite(p.volume[i])))
+      throw InvalidValue(what("volume"), format_value(p.volume[i]), "> 0");
+    const Vec2& x = p.position[i];
+    if (!(x.allFinite() && grid_.contains(x.x(), x.y())))
+      throw InvalidValue(what("position"),
+                         fmt::format("({}, {})", format_value(x.x()), format_value(x.y())),
+                         "inside the grid");
+    if (settings_.geometry == Geometry::axisymmetric && !(x.x() > 0.0))
+      throw InvalidValue(what("radius"), format_value(x.x()), "> 0 in axisymmetry");
+  }
+}
+
+void Solver::set_settings(const SolverSettings& settings) {
+  settings.validate();
+  if (settings.geometry != settings_.geometry)
+    throw InvalidValue("geometry", "changed", "the same for the whole run");
+  if (settings.threads != settings_.threads)
+    throw InvalidValue("threads", std::to_string(settings.threads),
+                       fmt::format("{} (fixed when the solver is made)", settings_.threads));
+  settings_ = settings;
+  wave_speed_step_ = -1;
+}
+
+void Solver::set_material(int index, ModelPtr model) {
+  if (index < 0 || index >= static_cast<int>(materials_.size()))
+    throw InvalidValue("material index", std::to_string(index),
+                       fmt::format("in [0, {}]", materials_.size() - 1));
+  if (!model) throw InvalidValue(fmt::format("material {}", index), "null", "a model");
+  models_[index] = model.get();
+  materials_[index] = std::move(model);
+  wave_speed_step_ = -1;
+}
+
+std::vector<Solver::ThreadAccount>& Solver::reset_thread_accounts() {
+  for (ThreadAccount& account : thread_accounts_) account = ThreadAccount{};
+  return thread_accounts_;
+}
+
+std::size_t Solver::bytes_per_particle() const {
+  return Particles::bytes_per_particle() + sizeof(Stencil) + sizeof(double);
+}
+
+void Solver::fail_at_particle(std::size_t particle, const std::string& reason) const {
+  const Vec2& x = particles_.position[particle];
+  const int material = particles_.material[particle];
+  throw Error(fmt::format(
+      "MPM stopped in step {} at time {:.6g} s: particle {} (material {}, {}) at x = {:.6g} m, "
+      "y = {:.6g} m: {}",
+      steps_ + 1, time_, particle, material, models_[material]->name(), x.x(), x.y(), reason));
+}
+
+double Solver::next_time_step() {
+  if (settings_.fixed_time_step > 0.0) return settings_.fixed_time_step;
+  if (wave_speed_step_ < 0 || steps_ - wave_speed_step_ >= settings_.wave_speed_interval) {
+    const auto count = static_cast<long>(particles_.size());
+    const double mass_scaling = settings_.mass_scaling;
+    double max_speed = 0.0;
+#pragma omp parallel for num_threads(threads_) schedule(static) reduction(max : max_speed)
+    for (long p = 0; p < count; ++p) {
+      const double density = mass_scaling * particles_.mass[p] / particles_.volume[p];
+      const double modulus = models_[particles_.material[p]]->wave_modulus(particles_.state[p]);
+      max_speed = std::max(max_speed, std::sqrt(modulus / density));
+    }
+    max_wave_speed_ = max_speed;
+    wave_speed_step_ = steps_;
+  }
+  const double speed = max_wave_speed_ + max_particle_speed_;
+  if (!(speed > 0.0 && std::isfinite(speed)))
+    throw Error(fmt::format("MPM: no finite wave speed for the time step in step {} ({} m/s)",
+                            steps_ + 1, speed));
+  return settings_.courant_number * grid_.min_spacing() / speed;
+}
+
+double Solver::step() {
+  const double dt = next_time_step();
+  advance(dt);
+  return dt;
+}
+
+void Solver::advance(double dt) {
+  particles_to_grid();    // weights at x^n; nodal mass, momentum, internal and external forces
+  update_grid(dt);        // momentum balance with damping and boundary conditions
+  grid_to_particles(dt);  // FLIP/PIC velocities and positions (MUSL: new momentum to the grid)
+  update_stress(dt);      // velocity gradient, Jaumann rotation, model update, F, volume
+  time_ += dt;
+  ++steps_;
+}
+
+long Solver::run_until(double end_time) {
+  long taken = 0;
+  while (time_ < end_time) {
+    const double full_step = next_time_step();
+    const double remaining = end_time - time_;
+    if (remaining <= 1e-9 * full_step) break;
+    advance(std::min(full_step, remaining));
+    ++taken;
+  }
+  return taken;
+}
+
+// Scatter without locks. With one thread the particles add straight into the grid's arrays.
+// With more, each thread adds into its own buffer, and then each node's sum is formed from the
+// buffers in thread order (over the node range each thread touched), which also clears them.
+// scatter_particle(p, sums, thread) adds particle p's share and leaves its stencil in stencils_;
+// finish_node(n) runs once node n's sums are complete.
+template <class ScatterParticle, class FinishNode>
+void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_particle,
+                             FinishNode&& finish_node) {
+  NodalFields& nodes = grid_.nodes();
+  const long node_count = grid_.node_count();
+  const auto particle_count = static_cast<long>(particles_.size());
+  const int nx = grid_.nx();
+  const bool direct = thread_grids_.empty();
+#pragma omp parallel num_threads(threads_)
+  {
+    const int thread = omp_get_thread_num();
+    NodalSums sums{nodes.mass.data(), nodes.momentum_x.data(), nodes.momentum_y.data(),
+                   nodes.force_x.data(), nodes.force_y.data()};
+    if (direct) {
+      for (long n = 0; n < node_count; ++n) {
+        nodes.momentum_x[n] = nodes.momentum_y[n] = 0.0;
+        if (mass_and_force) nodes.mass[n] = nodes.force_x[n] = nodes.force_y[n] = 0.0;
+      }
+    } else {
+      ThreadGrid& buffer = thread_grids_[thread];
+      sums = {buffer.mass.data(), buffer.momentum_x.data(), buffer.momentum_y.data(),
+              buffer.force_x.data(), buffer.force_y.data()};
+    }
+    int lowest_node = static_cast<int>(node_count), end_node = 0;
+#pragma omp for schedule(static)
+    for (long p = 0; p < particle_count; ++p) {
+      scatter_particle(p, sums, thread);
+      const Stencil& stencil = stencils_[p];
+      const int first = stencil.y.first * nx + stencil.x.first;
+      lowest_node = std::min(lowest_node, first);
+      end_node = std::max(end_node, first + (stencil.y.count - 1) * nx + stencil.x.count);
+    }
+    if (!direct) {
+      thread_grids_[thread].lowest_node = lowest_node;
+      thread_grids_[thread].end_node = end_node;
+    }
+#pragma omp barrier
+    const int team = omp_get_num_threads();
+#pragma omp for schedule(static)
+    for (long n = 0; n < node_count; ++n) {
+      if (!direct) {
+        double mass = 0.0, momentum_x = 0.0, momentum_y = 0.0, force_x = 0.0, force_y = 0.0;
+        for (int t = 0; t < team; ++t) {
+          ThreadGrid& buffer = thread_grids_[t];
+          if (n < buffer.lowest_node || n >= buffer.end_node) continue;
+          momentum_x += buffer.momentum_x[n];
+          momentum_y += buffer.momentum_y[n];
+          buffer.momentum_x[n] = buffer.momentum_y[n] = 0.0;
+          if (mass_and_force) {
+            mass += buffer.mass[n];
+            force_x += buffer.force_x[n];
+            force_y += buffer.force_y[n];
+            buffer.mass[n] = buffer.force_x[n] = buffer.force_y[n] = 0.0;
+          }
+        }
+        nodes.momentum_x[n] = momentum_x;
+        nodes.momentum_y[n] = momentum_y;
+        if (mass_and_force) {
+          nodes.mass[n] = mass;
+          nodes.force_x[n] = force_x;
+          nodes.force_y[n] = force_y;
+        }
+      }
+      finish_node(n);
+    }
+  }
+}
+
+void Solver::particles_to_grid() {
+  const Particles& p = particles_;
+  const int nx = grid_.nx();
+  const ShapeFunction shape = settings_.shape_function;
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  const double mass_scaling = settings_.mass_scaling;
+  const Vec2 gravity(0.0, -settings_.gravity_multiplier * settings_.gravity);
+  scatter_to_grid(
+      true,
+      [&](long i, const NodalSums& to, int) {
+        Stencil& stencil = stencils_[i];
+        const Vec2& x = p.position[i];
+        compute_stencil(grid_, shape, x.x(), x.y(), p.half_size[i].x(), p.half_size[i].y(),
+                        stencil);
+        if (axisymmetric) start_radius_[i] = x.x();
+
+        const double inertial_mass = mass_scaling * p.mass[i];
+        const Vec2 momentum = inertial_mass * p.velocity[i];
+        const Vec2 body_force = p.mass[i] * gravity + p.external_force[i];
+        const Vec6& stress = p.state[i].stress;
+        const double volume = p.volume[i];
+        const double v_sxx = volume * stress[k11], v_syy = volume * stress[k22];
+        const double v_sxy = volume * stress[k12] / kSqrt2;
+        // Axisymmetry: the hoop stress pulls the radial nodes by -V σ_θθ S_i / r_p.
+        const double hoop_force = axisymmetric ? -volume * stress[k33] / x.x() : 0.0;
+        const double radial_force = body_force.x() + hoop_force;
+        for_each_node(stencil, nx, [&](int n, double s, double ds_dx, double ds_dy) {
+          to.mass[n] += s * inertial_mass;
+          to.momentum_x[n] += s * momentum.x();
+          to.momentum_y[n] += s * momentum.y();
+          // f_i = S_i b_p - V_p σ_p ∇S_i
+          to.force_x[n] += s * radial_force - (v_sxx * ds_dx + v_sxy * ds_dy);
+          to.force_y[n] += s * body_force.y() - (v_sxy * ds_dx + v_syy * ds_dy);
+        });
+      },
+      [](long) {});
+}
+
+void Solver::update_grid(double dt) {
+  NodalFields& nodes = grid_.nodes();
+  const double* free_x = grid_.free_x().data();
+  const double* free_y = grid_.free_y().data();
+  const long node_count = grid_.node_count();
+  const double alpha = settings_.local_damping;
+  std::vector<ThreadAccount>& accounts = reset_thread_accounts();
+#pragma omp parallel num_threads(threads_)
+  {
+    ThreadAccount& account = accounts[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (long n = 0; n < node_count; ++n) {
+      const double mass = nodes.mass[n];
+      if (mass <= 0.0) {
+        nodes.velocity_x[n] = nodes.velocity_y[n] = 0.0;
+        nodes.velocity_change_x[n] = nodes.velocity_change_y[n] = 0.0;
+        continue;
+      }
+      const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
+      // Local non-viscous damping (Cundall 1987): f_damped = f - α |f| sign(v), per component.
+      const double damping_x = -alpha * std::abs(nodes.force_x[n]) * sign(vx);
+      const double damping_y = -alpha * std::abs(nodes.force_y[n]) * sign(vy);
+      // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP.
+      const double new_vx = free_x[n] * (vx + (nodes.force_x[n] + damping_x) * dt / mass);
+      const double new_vy = free_y[n] * (vy + (nodes.force_y[n] + damping_y) * dt / mass);
+      nodes.velocity_x[n] = new_vx;
+      nodes.velocity_y[n] = new_vy;
+      nodes.velocity_change_x[n] = new_vx - vx;
+      nodes.velocity_change_y[n] = new_vy - vy;
+      // Work of the damping force over the step, with the mean of the old and new velocities.
+      account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
+    }
+  }
+  for (const ThreadAccount& account : accounts) energies_.damping += account.sum[0];
+}
+
+void Solver::grid_to_particles(double dt) {
+  Particles& p = particles_;
+  const NodalFields& nodes = grid_.nodes();
+  const auto count = static_cast<long>(p.size());
+  const int nx = grid_.nx();
+  const double flip = settings_.flip_fraction;
+  const double mass_scaling = settings_.mass_scaling;
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  const Vec2 gravity(0.0, -settings_.gravity_multiplier * settings_.gravity);
+  std::vector<ThreadAccount>& accounts = reset_thread_accounts();
+  // Updates particle i from the grid and returns its new momentum.
+  auto move_particle = [&](long i, ThreadAccount& account) -> Vec2 {
+    Vec2 grid_velocity = Vec2::Zero(), velocity_change = Vec2::Zero();
+    for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
+      grid_velocity += s * Vec2(nodes.velocity_x[n], nodes.velocity_y[n]);
+      velocity_change += s * Vec2(nodes.velocity_change_x[n], nodes.velocity_change_y[n]);
+    });
+    // FLIP/PIC blend of the particle velocity; the particle moves with the grid velocity.
+    p.velocity[i] = flip * (p.velocity[i] + velocity_change) + (1.0 - flip) * grid_velocity;
+    const Vec2 displacement = dt * grid_velocity;
+    account.sum[0] += (p.mass[i] * gravity + p.external_force[i]).dot(displacement);
+    p.position[i] += displacement;
+    const double inertial_mass = mass_scaling * p.mass[i];
+    const double speed = p.velocity[i].norm();
+    account.sum[1] += 0.5 * inertial_mass * speed * speed;
+    account.max = std::max(account.max, speed);
+    const Vec2& x = p.position[i];
+    if (!(std::isfinite(speed) && grid_.contains(x.x(), x.y()) && (!axisymmetric || x.x() > 0.0)) &&
+        static_cast<std::size_t>(i) < account.failed_particle) {
+      account.failed_particle = static_cast<std::size_t>(i);
+      account.failure =
+          "the particle left the grid (or reached r <= 0) or its velocity is not "
+          "finite";
+    }
+    return inertial_mass * p.velocity[i];
+  };
+
+  if (settings_.scheme == UpdateScheme::musl) {
+    // MUSL: the new particle momentum goes straight back to the grid, with the same weights.
+    NodalFields& grid_nodes = grid_.nodes();
+    const double* free_x = grid_.free_x().data();
+    const double* free_y = grid_.free_y().data();
+    scatter_to_grid(
+        false,
+        [&](long i, const NodalSums& to, int thread) {
+          const Vec2 momentum = move_particle(i, accounts[thread]);
+          for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
+            to.momentum_x[n] += s * momentum.x();
+            to.momentum_y[n] += s * momentum.y();
+          });
+        },
+        [&](long n) {  // the nodal velocity from the new momentum, with the boundary conditions
+          const double mass = grid_nodes.mass[n];
+          const double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0;
+          grid_nodes.velocity_x[n] = free_x[n] * grid_nodes.momentum_x[n] * inverse_mass;
+          grid_nodes.velocity_y[n] = free_y[n] * grid_nodes.momentum_y[n] * inverse_mass;
+        });
+  } else {
+#pragma omp parallel num_threads(threads_)
+    {
+      ThreadAccount& account = accounts[omp_get_thread_num()];
+#pragma omp for schedule(static)
+      for (long i = 0; i < count; ++i) move_particle(i, account);
+    }
+  }
+
+  energies_.kinetic = 0.0;
+  max_particle_speed_ = 0.0;
+  std::size_t failed = kNoParticle;
+  const char* failure = "";
+  for (const ThreadAccount& account : accounts) {
+    energies_.external_work += account.sum[0];
+    energies_.kinetic += account.sum[1];
+    max_particle_speed_ = std::max(max_particle_speed_, account.max);
+    if (account.failed_particle < failed) {
+      failed = account.failed_particle;
+      failure = account.failure;
+    }
+  }
+  if (failed != kNoParticle) fail_at_particle(failed, failure);
+}
+
+void Solver::update_stress(double dt) {
+  Particles& p = particles_;
+  const NodalFields& nodes = grid_.nodes();
+  const auto count = static_cast<long>(p.size());
+  const int nx = grid_.nx();
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  const bool stretch_domains = settings_.shape_function == ShapeFunction::cpgimp;
+  std::vector<ThreadAccount>& accounts = reset_thread_accounts();
+#pragma omp parallel num_threads(threads_)
+  {
+    ThreadAccount& account = accounts[omp_get_thread_num()];
+#pragma omp for schedule(static)
+    for (long i = 0; i < count; ++i) {
+      // Velocity gradient L_ab = Σ v_ia dS_i/dx_b, and the radial velocity at the particle.
+      Mat2 velocity_gradient = Mat2::Zero();
+      double radial_velocity = 0.0;
+      for_each_node(stencils_[i], nx, [&](int n, double s, double ds_dx, double ds_dy) {
+        const double vx = nodes.velocity_x[n], vy = nodes.velocity_y[n];
+        velocity_gradient(0, 0) += vx * ds_dx;
+        velocity_gradient(0, 1) += vx * ds_dy;
+        velocity_gradient(1, 0) += vy * ds_dx;
+        velocity_gradient(1, 1) += vy * ds_dy;
+        radial_velocity += s * vx;
+      });
+      const Mat2 increment = dt * velocity_gradient;
+      const double hoop_increment = axisymmetric ? dt * radial_velocity / start_radius_[i] : 0.0;
+      Vec6 strain_increment;
+      strain_increment << increment(0, 0), increment(1, 1), hoop_increment, 0.0, 0.0,
+          kSqrt2 * 0.5 * (increment(0, 1) + increment(1, 0));
+
+      // Jaumann rate: rotate the state by the spin increment W = skew(L) dt (about z), then
+      // update it with the strain increment.
+      MaterialState& state = p.state[i];
+      const double spin = 0.5 * (increment(1, 0) - increment(0, 1));
+      if (spin != 0.0) rotate_state_about_z(state, spin);
+      const Vec6 stress_before = state.stress;
+      const UpdateResult result = models_[p.material[i]]->update(state, strain_increment);
+      if (!result.ok) {
+        if (static_cast<std::size_t>(i) < account.failed_particle) {
+          account.failed_particle = static_cast<std::size_t>(i);
+          account.failure = result.message;
+        }
+        continue;
+      }
+
+      // F <- (I + L dt) F; F_33 <- (1 + Δε_θθ) F_33; V = det F V_0.
+      Mat2& deformation = p.deformation_gradient[i];
+      deformation = (Mat2::Identity() + increment) * deformation;
+      p.out_of_plane_stretch[i] *= 1.0 + hoop_increment;
+      const double volume_before = p.volume[i];
+      p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
+      // Strain work with the mean stress and mean volume over the step (trapezoidal rule).
+      account.sum[0] += 0.25 * (volume_before + p.volume[i]) *
+                        (stress_before + state.stress).dot(strain_increment);
+
+      if (stretch_domains) {
+        // cpGIMP: the domain's half-lengths follow the stretch V = sqrt(F F^T) along x and y
+        // (2x2 square root: sqrt(B) = (B + sqrt(det B) I) / sqrt(tr B + 2 sqrt(det B))).
+        const Mat2 left_cauchy_green = deformation * deformation.transpose();
+        const double root_det = std::abs(deformation.determinant());
+        const double scale = 1.0 / std::sqrt(left_cauchy_green.trace() + 2.0 * root_det);
+        p.half_size[i] =
+            p.initial_half_size[i].cwiseProduct(Vec2((left_cauchy_green(0, 0) + root_det) * scale,
+                                                     (left_cauchy_green(1, 1) + root_det) * scale));
+      }
+    }
+  }
+  std::size_t failed = kNoParticle;
+  const char* failure = "";
+  for (const ThreadAccount& account : accounts) {
+    energies_.internal += account.sum[0];
+    if (account.failed_particle < failed) {
+      failed = account.failed_particle;
+      failure = account.failure;
+    }
+  }
+  if (failed != kNoParticle)
+    fail_at_particle(failed, fmt::format("the stress update failed: {}", failure));
+}
+
+}  // namespace pilempm::mpm

@@ -1,0 +1,182 @@
+#pragma once
+// Explicit dynamic material point method in plane strain and axisymmetry.
+//
+// One step (Sulsky, Chen & Schreyer 1994; MUSL: Sulsky, Zhou & Schreyer 1995):
+//   particles to grid: shape functions at x^n, nodal mass, momentum, internal and external forces
+//   grid update: local damping, boundary conditions -> nodal velocity and its change over the step
+//   grid to particles: FLIP/PIC velocity and position [MUSL: the new momentum back to the grid]
+//   stress update: velocity gradient, Jaumann rotation, constitutive update, deformation
+//     gradient, volume, GIMP domain size.
+// Three passes over the particles per step: the MUSL remap is done in the grid-to-particle pass.
+//
+// Mandel components of stress and strain at a particle: 11 = x (r), 22 = y (z), 33 = z (zero
+// strain) in plane strain or θθ (hoop) in axisymmetry, 12 = xy (rz); 13 and 23 stay zero.
+// Axisymmetry (x = r, y = z) works per radian: V_p = r_p A_p, m_p = ρ V_p; the hoop strain rate
+// is Σ S_i v_ri / r_p and the radial internal force gets -V_p σ_θθ S_i / r_p; the radial velocity
+// is zero on the axis r = 0.
+//
+// Threads (OpenMP): particle loops are split statically; the scatter to the grid goes to one
+// nodal array per thread (thread 0 writes the grid's own), summed in thread order, so a run is
+// deterministic for a given thread count and differs between thread counts by round-off only.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "pilempm/constitutive/constitutive_model.hpp"
+#include "pilempm/mpm/grid.hpp"
+#include "pilempm/mpm/particles.hpp"
+#include "pilempm/mpm/shape_functions.hpp"
+
+namespace pilempm::mpm {
+
+/// When the stress is updated. USL takes the velocity gradient from the nodal velocities of the
+/// grid update, so a node that a particle barely reaches (small mass, full stress gradient) can
+/// be driven unstably, above all with linear shape functions; MUSL maps the new particle
+/// velocities back to the grid first, which bounds them (Sulsky, Zhou & Schreyer 1995; Nairn
+/// 2003). MUSL is the default.
+enum class UpdateScheme {
+  usl,   ///< update stress last, from the grid velocities after the grid update
+  musl,  ///< modified USL: from the particle velocities mapped back to the grid
+};
+
+struct SolverSettings {
+  Geometry geometry = Geometry::plane_strain;
+  UpdateScheme scheme = UpdateScheme::musl;
+  ShapeFunction shape_function = ShapeFunction::cpgimp;
+  /// FLIP/PIC blend of the particle velocity update, in [0, 1]: 1 = FLIP, 0 = PIC. Pure FLIP
+  /// keeps particle velocity modes the grid cannot see, which then never decay (the kinetic energy
+  /// of a damped quasi-static run stalls); a little PIC removes them.
+  double flip_fraction = 0.99;
+  double gravity = 9.81;            ///< g [m/s^2], acting along -y
+  double gravity_multiplier = 1.0;  ///< N: the body force is N g (centrifuge), >= 0
+  double local_damping = 0.0;       ///< α of the local non-viscous damping, in [0, 1)
+  double mass_scaling = 1.0;        ///< factor on the inertial mass (not on gravity), >= 1
+  double courant_number = 0.5;      ///< in (0, 1]
+  double fixed_time_step = 0.0;     ///< > 0: this step [s] instead of the CFL step
+  /// Steps between evaluations of the materials' wave speeds for the CFL step (the particle
+  /// speeds are taken every step). The stiffness changes little in a few steps and the Courant
+  /// number leaves a margin; 1 evaluates every step.
+  int wave_speed_interval = 10;
+  int threads = 0;  ///< OpenMP threads; 0: omp_get_max_threads()
+
+  /// Throws InvalidValue naming the first setting out of range.
+  void validate() const;
+};
+
+/// Energy account of the run [J] (per unit thickness in plane strain, per radian in
+/// axisymmetry). With no damping, kinetic + internal - external_work is conserved; with damping,
+/// kinetic + internal + damping - external_work.
+struct Energies {
+  /// ½ Σ m v² (inertial mass) at the end of the last step (at construction: initial velocities).
+  /// The velocities belong to mid-step (x_n+1 = x_n + Δt v_n+1), so kinetic + internal at one
+  /// step oscillates by about ωΔt/2 around the conserved total in a vibration.
+  double kinetic = 0.0;
+  double internal = 0.0;       ///< strain work Σ V σ:Δε, accumulated
+  double external_work = 0.0;  ///< work of gravity and particle loads, accumulated
+  double damping = 0.0;        ///< dissipated by local damping, accumulated
+};
+
+class Solver {
+ public:
+  /// Takes the grid (with its boundary conditions), the particles and the materials the
+  /// particles refer to by index. Throws InvalidValue for bad settings, a missing material, a
+  /// particle outside the grid or without mass or volume, or r <= 0 in axisymmetry.
+  Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
+         SolverSettings settings = {});
+
+  /// Advances one explicit step and returns its length [s]. Throws pilempm::Error naming the
+  /// particle, step and time when a stress update fails or a particle leaves the grid; the
+  /// solver's state is then that of a step half done, to be reported, not continued.
+  double step();
+  /// Steps until the time reaches `end_time` [s] (the last step is shortened to land on it).
+  long run_until(double end_time);
+
+  /// The step the next call of step() will take [s]: the fixed step, or the Courant number times
+  /// the smallest cell over max_p sqrt(M / (s ρ)) + max_p |v| (an upper bound of
+  /// max_p (sqrt(M / (s ρ)) + |v|); M: the model's wave modulus at the particle's state, s: mass
+  /// scaling, ρ = m / V current).
+  double next_time_step();
+
+  double time() const { return time_; }
+  long steps() const { return steps_; }
+  const Energies& energies() const { return energies_; }
+  const SolverSettings& settings() const { return settings_; }
+  /// Changes settings between steps (a new phase), validated.
+  void set_settings(const SolverSettings& settings);
+  int threads() const { return threads_; }
+
+  const Grid& grid() const { return grid_; }
+  Grid& grid() { return grid_; }
+  const Particles& particles() const { return particles_; }
+  /// For loads and inspection; keep the number of particles unchanged.
+  Particles& particles() { return particles_; }
+  const std::vector<ModelPtr>& materials() const { return materials_; }
+  /// Replaces material `index` (a new parameter set for the next phase); states are kept.
+  void set_material(int index, ModelPtr model);
+
+  /// Particle data plus the solver's per-particle scratch [bytes].
+  std::size_t bytes_per_particle() const;
+
+ private:
+  // One step of length dt: the steps of the algorithm, in order.
+  void advance(double dt);
+  void particles_to_grid();
+  void update_grid(double dt);
+  void grid_to_particles(double dt);
+  void update_stress(double dt);
+
+  // Pointers to one set of nodal sums: the grid's own arrays or a thread's buffer.
+  struct NodalSums {
+    double* mass;
+    double* momentum_x;
+    double* momentum_y;
+    double* force_x;
+    double* force_y;
+  };
+  template <class ScatterParticle, class FinishNode>
+  void scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_particle,
+                       FinishNode&& finish_node);
+  void check_particles() const;
+  [[noreturn]] void fail_at_particle(std::size_t particle, const std::string& reason) const;
+
+  Grid grid_;
+  Particles particles_;
+  std::vector<ModelPtr> materials_;
+  std::vector<const ConstitutiveModel*> models_;  // raw pointers for the particle loops
+  SolverSettings settings_;
+  int threads_ = 1;
+
+  double time_ = 0.0;
+  long steps_ = 0;
+  Energies energies_;
+  double max_wave_speed_ = 0.0;      // max sqrt(M / (s ρ)) at the last evaluation
+  long wave_speed_step_ = -1;        // the step of that evaluation
+  double max_particle_speed_ = 0.0;  // max |v_p| after the last step
+
+  // Per-particle scratch: the stencil at x^n and the radius r^n (the stress update needs both
+  // after the particles have moved).
+  std::vector<Stencil> stencils_;
+  std::vector<double> start_radius_;
+
+  // Per-thread nodal sums (none with one thread, which scatters into the grid), and the node
+  // range each one touched.
+  struct ThreadGrid {
+    std::vector<double> mass, momentum_x, momentum_y, force_x, force_y;
+    int lowest_node = 0, end_node = 0;
+  };
+  std::vector<ThreadGrid> thread_grids_;
+
+  // What one thread adds up in a particle or node loop, summed afterwards in thread order so
+  // that the totals do not depend on the order in which the threads finish.
+  static constexpr std::size_t kNoParticle = static_cast<std::size_t>(-1);
+  struct alignas(64) ThreadAccount {
+    double sum[2] = {0.0, 0.0};
+    double max = 0.0;
+    std::size_t failed_particle = kNoParticle;  // the smallest index that failed
+    const char* failure = "";
+  };
+  std::vector<ThreadAccount> thread_accounts_;
+  std::vector<ThreadAccount>& reset_thread_accounts();
+};
+
+}  // namespace pilempm::mpm
