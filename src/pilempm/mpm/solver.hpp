@@ -4,6 +4,7 @@
 // One step (Sulsky, Chen & Schreyer 1994; MUSL: Sulsky, Zhou & Schreyer 1995):
 //   particles to grid: shape functions at x^n, nodal mass, momentum, internal and external forces
 //   grid update: local damping, boundary conditions -> nodal velocity and its change over the step
+//   contact: rigid bodies correct the nodal velocities (Coulomb friction), force on each body
 //   grid to particles: FLIP/PIC velocity and position [MUSL: the new momentum back to the grid]
 //   stress update: velocity gradient, Jaumann rotation, constitutive update, deformation
 //     gradient, volume, GIMP domain size.
@@ -25,6 +26,7 @@
 #include "pilempm/constitutive/constitutive_model.hpp"
 #include "pilempm/mpm/grid.hpp"
 #include "pilempm/mpm/particles.hpp"
+#include "pilempm/mpm/rigid_body.hpp"
 #include "pilempm/mpm/shape_functions.hpp"
 
 namespace pilempm::mpm {
@@ -76,6 +78,14 @@ struct Energies {
   double damping = 0.0;        ///< dissipated by local damping, accumulated
 };
 
+/// Contact force on a rigid body over the last step [N] (per unit thickness in plane strain, per
+/// radian in axisymmetry): minus the soil's nodal momentum corrections over Δt, in total and per
+/// surface part (indexed as the body's part_names()). A pile pushed into soil gets total.y() > 0.
+struct RigidBodyForce {
+  Vec2 total = Vec2::Zero();
+  std::vector<Vec2> parts;
+};
+
 class Solver {
  public:
   /// Takes the grid (with its boundary conditions), the particles and the materials the
@@ -114,6 +124,21 @@ class Solver {
   /// Replaces material `index` (a new parameter set for the next phase); states are kept.
   void set_material(int index, ModelPtr model);
 
+  /// Adds a rigid body in contact with the soil (Coulomb friction at the grid nodes, see
+  /// apply_contact) and returns its index. Throws InvalidValue for a pile in plane strain or a
+  /// polygon in axisymmetry.
+  int add_rigid_body(RigidBody body);
+  int rigid_body_count() const { return static_cast<int>(rigid_bodies_.size()); }
+  /// For changing a body's velocity between steps; the solver moves it by v Δt each step.
+  RigidBody& rigid_body(int index) { return rigid_bodies_.at(static_cast<std::size_t>(index)); }
+  const RigidBody& rigid_body(int index) const {
+    return rigid_bodies_.at(static_cast<std::size_t>(index));
+  }
+  /// The contact force on body `index` in the last step (zero before the first).
+  const RigidBodyForce& rigid_body_force(int index) const {
+    return rigid_body_forces_.at(static_cast<std::size_t>(index));
+  }
+
   /// Particle data plus the solver's per-particle scratch [bytes].
   std::size_t bytes_per_particle() const;
 
@@ -124,6 +149,9 @@ class Solver {
   void update_grid(double dt);
   void grid_to_particles(double dt);
   void update_stress(double dt);
+  // Rigid-body contact on the nodal velocities; with `forces`, also the velocity change for FLIP
+  // and the contact forces of the step.
+  void apply_contact(double dt, bool forces);
 
   // Pointers to one set of nodal sums: the grid's own arrays or a thread's buffer.
   struct NodalSums {
@@ -177,6 +205,9 @@ class Solver {
   };
   std::vector<ThreadAccount> thread_accounts_;
   std::vector<ThreadAccount>& reset_thread_accounts();
+
+  std::vector<RigidBody> rigid_bodies_;
+  std::vector<RigidBodyForce> rigid_body_forces_;
 };
 
 }  // namespace pilempm::mpm
