@@ -1,0 +1,219 @@
+// Output of MPM runs: see mpm_output.hpp.
+#include "pilempm/io/mpm_output.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/core/error.hpp"
+#include "pilempm/core/tensor.hpp"
+#include "pilempm/io/element_output.hpp"
+
+namespace pilempm {
+
+namespace {
+
+constexpr double kKPa = 1.0e3;
+
+// ||δ|| / R of each model with intergranular strain (0: none).
+std::vector<double> igs_sizes(const mpm::Solver& solver) {
+  std::vector<double> sizes;
+  for (const ModelPtr& model : solver.materials()) {
+    const auto* hypoplastic = dynamic_cast<const Hypoplastic*>(model.get());
+    sizes.push_back(hypoplastic != nullptr && hypoplastic->intergranular().enabled()
+                        ? hypoplastic->intergranular().R
+                        : 0.0);
+  }
+  return sizes;
+}
+
+}  // namespace
+
+PointCloud mpm_particle_cloud(const mpm::Solver& solver,
+                              const std::vector<mpm::Vec2>& initial_position,
+                              const std::vector<int>& material_index) {
+  const mpm::Particles& particles = solver.particles();
+  const std::size_t n = particles.size();
+  const std::vector<double> igs_size = igs_sizes(solver);
+  const bool any_igs =
+      std::any_of(igs_size.begin(), igs_size.end(), [](double r) { return r > 0; });
+
+  PointCloud cloud;
+  cloud.coordinates.resize(3 * n);
+  PointField stress{"stress_kPa_compression_positive", 9, std::vector<double>(9 * n)};
+  PointField mean{"p_kPa", 1, std::vector<double>(n)};
+  PointField deviator{"q_kPa", 1, std::vector<double>(n)};
+  PointField void_ratio{"void_ratio", 1, std::vector<double>(n)};
+  PointField igs{"igs_rho", 1, std::vector<double>(any_igs ? n : 0)};
+  PointField velocity{"velocity_m_per_s", 3, std::vector<double>(3 * n)};
+  PointField displacement{"displacement_m", 3, std::vector<double>(3 * n)};
+  PointField material{"material", 1, std::vector<double>(n)};
+  for (std::size_t p = 0; p < n; ++p) {
+    const mpm::Vec2& x = particles.position[p];
+    cloud.coordinates[3 * p] = x.x();
+    cloud.coordinates[3 * p + 1] = x.y();
+    const MaterialState& state = particles.state[p];
+    const Vec6& s = state.stress;
+    const double xy = s[k12] / kSqrt2, yz = s[k23] / kSqrt2, xz = s[k13] / kSqrt2;
+    const double full[9] = {s[k11], xy, xz, xy, s[k22], yz, xz, yz, s[k33]};
+    for (int k = 0; k < 9; ++k) stress.values[9 * p + k] = -full[k] / kKPa;
+    mean.values[p] = mean_stress(s) / kKPa;
+    deviator.values[p] = deviator_stress(s) / kKPa;
+    void_ratio.values[p] = state.void_ratio;
+    const int model = particles.material[p];
+    if (any_igs) {
+      const double r = igs_size[static_cast<std::size_t>(model)];
+      igs.values[p] = r > 0.0 ? std::min(1.0, state.intergranular_strain.norm() / r) : 0.0;
+    }
+    velocity.values[3 * p] = particles.velocity[p].x();
+    velocity.values[3 * p + 1] = particles.velocity[p].y();
+    const mpm::Vec2 u = x - initial_position[p];
+    displacement.values[3 * p] = u.x();
+    displacement.values[3 * p + 1] = u.y();
+    material.values[p] = material_index[static_cast<std::size_t>(model)];
+  }
+  cloud.fields.push_back(std::move(stress));
+  cloud.fields.push_back(std::move(mean));
+  cloud.fields.push_back(std::move(deviator));
+  cloud.fields.push_back(std::move(void_ratio));
+  if (any_igs) cloud.fields.push_back(std::move(igs));
+  cloud.fields.push_back(std::move(velocity));
+  cloud.fields.push_back(std::move(displacement));
+  cloud.fields.push_back(std::move(material));
+  return cloud;
+}
+
+std::string mpm_energies_header(mpm::Geometry geometry) {
+  const char* per = geometry == mpm::Geometry::axisymmetric
+                        ? "per radian (axisymmetric)"
+                        : "per metre of thickness (plane strain)";
+  return fmt::format(
+      "# energies in J {}; kinetic at the end of the step, the others accumulated since t = 0; "
+      "without damping kinetic + internal - external_work stays constant, with it kinetic + "
+      "internal + damping - external_work\n"
+      "time_s,step,dt_s,kinetic_J,internal_J,external_work_J,damping_J\n",
+      per);
+}
+
+std::string mpm_energies_row(const mpm::Solver& solver, double time_step) {
+  const mpm::Energies& e = solver.energies();
+  return fmt::format("{:.10g},{},{:.6g},{:.10g},{:.10g},{:.10g},{:.10g}\n", solver.time(),
+                     solver.steps(), time_step, e.kinetic, e.internal, e.external_work, e.damping);
+}
+
+MpmProgress::MpmProgress(std::ostream* out, double total_time, double min_interval_s)
+    : out_(out),
+      total_time_(total_time),
+      min_interval_(min_interval_s),
+      start_(std::chrono::steady_clock::now()) {}
+
+double MpmProgress::wall_seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void MpmProgress::update(const std::string& phase, double phase_end, const mpm::Solver& solver,
+                         bool force) {
+  if (out_ == nullptr) return;
+  const double wall = wall_seconds();
+  if (!force && wall - last_print_ < min_interval_) return;
+  last_print_ = wall;
+  const double t = solver.time();
+  const std::string eta =
+      t > 0.0 ? fmt::format("{:.1f} s", wall * std::max(0.0, total_time_ - t) / t) : "?";
+  *out_ << fmt::format("mpm: phase {}: t = {:.6g} / {:.6g} s, {} steps, wall {:.1f} s, ETA {}\n",
+                       phase, t, phase_end, solver.steps(), wall, eta)
+        << std::flush;
+}
+
+MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_dir,
+                           std::ostream* progress_stream) {
+  prepare_output_directory(out_dir);
+  mpm::Solver solver = make_mpm_solver(c);
+  const std::vector<mpm::Vec2> initial_position = solver.particles().position;
+  std::vector<int> material_index;
+  std::map<std::string, int> distinct;
+  for (const std::string& name : c.material_names)
+    material_index.push_back(
+        distinct.emplace(name, static_cast<int>(distinct.size())).first->second);
+
+  MpmRunSummary summary;
+  summary.pvd_file = out_dir / "particles.pvd";
+  summary.energies_file = out_dir / "energies.csv";
+  PvdSeries series(summary.pvd_file);
+  std::string energies =
+      mpm_energies_header(c.geometry) + mpm_energies_row(solver, solver.next_time_step());
+  double total_time = 0.0;
+  for (const MpmPhase& phase : c.phases) total_time += phase.duration;
+  MpmProgress progress(progress_stream, total_time);
+
+  double last_snapshot = -1.0;
+  auto snapshot = [&] {
+    if (solver.time() == last_snapshot) return;
+    last_snapshot = solver.time();
+    const std::filesystem::path file =
+        out_dir / fmt::format("particles_{:05d}.vtu", summary.vtu_files.size());
+    write_vtu(file, mpm_particle_cloud(solver, initial_position, material_index));
+    series.add(solver.time(), file);
+    series.write();
+    write_file_atomically(summary.energies_file, energies);
+    summary.vtu_files.push_back(file);
+  };
+  snapshot();
+
+  double phase_start = 0.0;
+  for (const MpmPhase& phase : c.phases) {
+    const double phase_end = phase_start + phase.duration;
+    const double tolerance = 1e-6 * std::min(phase.energy_interval, phase.output_interval);
+    // The k-th time of a series in this phase (counted, not summed, so that it does not drift);
+    // one within the tolerance of the phase end is the phase end.
+    auto series_time = [&](double interval, long k) {
+      const double t = phase_start + static_cast<double>(k) * interval;
+      return t >= phase_end - tolerance ? phase_end : t;
+    };
+    try {
+      solver.set_settings(phase_settings(c, phase));
+      long output_count = 1, energy_count = 1;
+      for (;;) {
+        const double next_output = series_time(phase.output_interval, output_count);
+        const double next_energy = series_time(phase.energy_interval, energy_count);
+        const double target = std::min(next_output, next_energy);
+        // Steps of the solver's own length, then one that lands on the target.
+        for (;;) {
+          if (solver.time() + solver.next_time_step() >= target) {
+            solver.run_until(target);
+            break;
+          }
+          solver.step();
+          progress.update(phase.name, phase_end, solver);
+        }
+        if (next_energy == target) {
+          energies += mpm_energies_row(solver, solver.next_time_step());
+          ++energy_count;
+        }
+        if (next_output == target) {
+          snapshot();
+          ++output_count;
+        }
+        if (target == phase_end) break;
+      }
+    } catch (const InputError&) {
+      throw;
+    } catch (const Error& e) {
+      write_file_atomically(summary.energies_file, energies);
+      throw Error(
+          fmt::format("phase \"{}\" at t = {:.6g} s: {}", phase.name, solver.time(), e.what()));
+    }
+    progress.update(phase.name, phase_end, solver, /*force=*/true);
+    phase_start = phase_end;
+  }
+  write_file_atomically(summary.energies_file, energies);
+  summary.steps = solver.steps();
+  summary.time = solver.time();
+  summary.wall_seconds = progress.wall_seconds();
+  return summary;
+}
+
+}  // namespace pilempm
