@@ -1,7 +1,9 @@
 // `pilempm element ...` run as a user runs it: the binary (PILEMPM_BINARY) in a shell.
 #include <gtest/gtest.h>
+
 #include <sys/wait.h>
 #include <unistd.h>
+#include "run_pilempm.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,25 +15,11 @@
 
 namespace {
 
+using pilempm_test::read_text;
+using pilempm_test::Result;
+using pilempm_test::run_pilempm;
+
 namespace fs = std::filesystem;
-
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& arguments) {
-  const std::string command = std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
 
 class TempDir {
  public:
@@ -53,13 +41,6 @@ class TempDir {
   fs::path path_;
 };
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 // The number after "key": inside the object "object" of a JSON text (enough for our summaries).
 double json_number(const std::string& json, const std::string& object, const std::string& key) {
   const std::size_t at = json.find("\"" + object + "\": {");
@@ -72,10 +53,10 @@ double json_number(const std::string& json, const std::string& object, const std
 TEST(ElementCli, TriaxialExampleCommandWritesCurveAndSummary) {
   TempDir dir;
   // Exactly the command of the issue (2000 steps by default).
-  const Result r =
-      run("element triaxial --set original --igs IGS3 --e0 0.567 --e0-at zero-pressure "
-          "--sigma3-kPa 2000 --axial-strain 0.25 --out '" +
-          (dir / "tx.csv") + "' --summary '" + (dir / "tx.json") + "'");
+  const Result r = run_pilempm(
+      "element triaxial --set original --igs IGS3 --e0 0.567 --e0-at zero-pressure "
+      "--sigma3-kPa 2000 --axial-strain 0.25 --out '" +
+      (dir / "tx.csv") + "' --summary '" + (dir / "tx.json") + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("peak q"), std::string::npos) << r.output;
   const std::string csv = read_text(dir / "tx.csv");
@@ -93,7 +74,8 @@ TEST(ElementCli, TriaxialExampleCommandWritesCurveAndSummary) {
 }
 
 TEST(ElementCli, E0AtMustBeGiven) {
-  const Result r = run("element triaxial --set original --igs IGS3 --e0 0.6 --sigma3-kPa 100");
+  const Result r =
+      run_pilempm("element triaxial --set original --igs IGS3 --e0 0.6 --sigma3-kPa 100");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--e0-at"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("initial-stress"), std::string::npos) << r.output;
@@ -101,9 +83,9 @@ TEST(ElementCli, E0AtMustBeGiven) {
 }
 
 TEST(ElementCli, BadFlagValueNamesFlagValueAndRange) {
-  const Result r =
-      run("element oedometer --set original --igs IGS3 --e0 0.7 --e0-at initial-stress "
-          "--sigma-v0-kPa 10 --K0 0.5 --sigma-v-kPa 400,-100");
+  const Result r = run_pilempm(
+      "element oedometer --set original --igs IGS3 --e0 0.7 --e0-at initial-stress "
+      "--sigma-v0-kPa 10 --K0 0.5 --sigma-v-kPa 400,-100");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--sigma-v-kPa = -100: out of range: must be > 0"), std::string::npos)
       << r.output;
@@ -115,7 +97,7 @@ TEST(ElementCli, BadKeyInCaseFileNamesFileLineAndKey) {
   std::ofstream(file) << "[[test]]\nname = \"a\"\ntype = \"triaxial\"\nset = \"original\"\n"
                          "igs = \"IGS3\"\ne0 = 0.6\ne0_at = \"initial-stress\"\n"
                          "sigma3_kPa = 100\naxial_strian = 0.2\n";
-  const Result r = run("element run '" + file + "' --out '" + (dir / "out") + "'");
+  const Result r = run_pilempm("element run '" + file + "' --out '" + (dir / "out") + "'");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find(file + ":9: test[0].axial_strian"), std::string::npos) << r.output;
   // Nothing ran and nothing was written.
@@ -125,8 +107,8 @@ TEST(ElementCli, BadKeyInCaseFileNamesFileLineAndKey) {
 TEST(ElementCli, RunOnlyOneTestOfTheExampleCase) {
   TempDir dir;
   const std::string example = std::string(PILEMPM_SOURCE_DIR) + "/examples/element_tests.toml";
-  const Result r = run("element run '" + example + "' --only tx-dense-s3-50kPa-e0.59 --out '" +
-                       (dir / "out") + "'");
+  const Result r = run_pilempm("element run '" + example +
+                               "' --only tx-dense-s3-50kPa-e0.59 --out '" + (dir / "out") + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("[1/1] tx-dense-s3-50kPa-e0.59"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("summary.csv"), std::string::npos) << r.output;
@@ -135,8 +117,8 @@ TEST(ElementCli, RunOnlyOneTestOfTheExampleCase) {
   const std::string summary = read_text(dir / "out/summary.csv");
   EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 2);
 
-  const Result unknown =
-      run("element run '" + example + "' --only no-such-test --out '" + (dir / "out2") + "'");
+  const Result unknown = run_pilempm("element run '" + example + "' --only no-such-test --out '" +
+                                     (dir / "out2") + "'");
   EXPECT_NE(unknown.exit_code, 0);
   EXPECT_NE(unknown.output.find("tx-hp-s3-30MPa"), std::string::npos) << unknown.output;
 }
@@ -144,7 +126,7 @@ TEST(ElementCli, RunOnlyOneTestOfTheExampleCase) {
 // The whole built-in example case (about the study's full set of element tests).
 TEST(ElementCli, LongRunsTheWholeBuiltInCase) {
   TempDir dir;
-  const Result r = run("element run --out '" + (dir / "out") + "'");
+  const Result r = run_pilempm("element run --out '" + (dir / "out") + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string summary = read_text(dir / "out/summary.csv");
   EXPECT_GE(std::count(summary.begin(), summary.end(), '\n'), 31);

@@ -1,7 +1,9 @@
 // `pilempm mpm run` as a user runs it: the example column under self-weight, then its files.
 #include <gtest/gtest.h>
+
 #include <sys/wait.h>
 #include <unistd.h>
+#include "run_pilempm.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -16,32 +18,11 @@
 
 namespace {
 
+using pilempm_test::read_text;
+using pilempm_test::Result;
+using pilempm_test::run_pilempm;
+
 namespace fs = std::filesystem;
-
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run(const std::string& arguments) {
-  const std::string command = std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 std::vector<unsigned char> base64_decode(const std::string& text) {
   std::vector<unsigned char> out;
@@ -91,7 +72,7 @@ TEST(MpmCli, ColumnExampleWritesSnapshotsEnergiesAndTheWeightOfTheColumn) {
   fs::remove_all(out);
   const std::string example =
       std::string(PILEMPM_SOURCE_DIR) + "/examples/mpm/column_self_weight.toml";
-  const Result r = run("mpm run '" + example + "' --out '" + out.string() + "'");
+  const Result r = run_pilempm("mpm run '" + example + "' --out '" + out.string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("mpm: phase self-weight"), std::string::npos) << r.output;
 
@@ -167,8 +148,8 @@ TEST(MpmCli, BadCaseFileIsReportedWithFileLineAndKey) {
       read_text(std::string(PILEMPM_SOURCE_DIR) + "/examples/mpm/column_self_weight.toml");
   text.replace(text.find("courant_number"), 14, "courant_numbre");
   std::ofstream(dir / "bad.toml") << text;
-  const Result r =
-      run("mpm run '" + (dir / "bad.toml").string() + "' --out '" + (dir / "out").string() + "'");
+  const Result r = run_pilempm("mpm run '" + (dir / "bad.toml").string() + "' --out '" +
+                               (dir / "out").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("bad.toml:"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("courant_numbre"), std::string::npos) << r.output;

@@ -2,8 +2,10 @@
 // The full check of the outputs is tests/study/test_calibration_study.cpp; here the command
 // line: its flags, its messages, and what it does without a Python that can plot.
 #include <gtest/gtest.h>
+
 #include <sys/wait.h>
 #include <unistd.h>
+#include "run_pilempm.hpp"
 
 #include <cstdio>
 #include <filesystem>
@@ -13,32 +15,11 @@
 
 namespace {
 
+using pilempm_test::read_text;
+using pilempm_test::Result;
+using pilempm_test::run_pilempm;
+
 namespace fs = std::filesystem;
-
-struct Result {
-  int exit_code = -1;
-  std::string output;  // stdout and stderr together
-};
-
-Result run_study(const std::string& arguments) {
-  const std::string command = std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
 
 class StudyDir {
  public:
@@ -60,8 +41,8 @@ class StudyDir {
 
 TEST(StudyCli, WithoutPythonItWarnsAndStillWritesEverythingElse) {
   StudyDir dir;
-  const Result r = run_study("study calibration --quick --python /nonexistent/python3 --out '" +
-                             dir.path().string() + "'");
+  const Result r = run_pilempm("study calibration --quick --python /nonexistent/python3 --out '" +
+                               dir.path().string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // Progress lines while it runs, then a clear warning with what to do.
   EXPECT_NE(r.output.find("item 8/8"), std::string::npos) << r.output;
@@ -80,21 +61,21 @@ TEST(StudyCli, WithoutPythonItWarnsAndStillWritesEverythingElse) {
 }
 
 TEST(StudyCli, OutIsRequiredAndABadFolderIsAnError) {
-  Result r = run_study("study calibration --quick");
+  Result r = run_pilempm("study calibration --quick");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
 
   StudyDir dir;
   fs::create_directories(dir.path());
   std::ofstream(dir.path() / "a-file") << "x";
-  r = run_study("study calibration --quick --no-plots --out '" +
-                (dir.path() / "a-file" / "out").string() + "'");
+  r = run_pilempm("study calibration --quick --no-plots --out '" +
+                  (dir.path() / "a-file" / "out").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("pilempm: error: output folder"), std::string::npos) << r.output;
 }
 
 TEST(StudyCli, HelpListsTheFlags) {
-  const Result r = run_study("study calibration --help");
+  const Result r = run_pilempm("study calibration --help");
   EXPECT_EQ(r.exit_code, 0) << r.output;
   for (const char* flag : {"--out", "--quick", "--no-plots", "--python"})
     EXPECT_NE(r.output.find(flag), std::string::npos) << flag;

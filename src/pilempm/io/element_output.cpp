@@ -9,6 +9,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "pilempm/io/json_text.hpp"
+
 namespace pilempm {
 
 namespace fs = std::filesystem;
@@ -55,35 +57,6 @@ std::string number_text(double value, bool json = false) {
   return fmt::format("{:.10g}", value + 0.0);  // + 0.0: no "-0" for a negated zero
 }
 
-std::string json_string(std::string_view s) {
-  std::string out = "\"";
-  for (char ch : s) {
-    switch (ch) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      default:
-        if (static_cast<unsigned char>(ch) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(ch)));
-        else
-          out += ch;
-    }
-  }
-  return out + "\"";
-}
-
 // A small writer of indented JSON objects.
 class JsonWriter {
  public:
@@ -104,7 +77,7 @@ class JsonWriter {
     return raw(key, value ? "true" : "false");
   }
   JsonWriter& string(std::string_view key, std::string_view value) {
-    return raw(key, json_string(value));
+    return raw(key, json_quote(value));
   }
   JsonWriter& numbers(std::string_view key, const std::vector<double>& values) {
     std::string list = "[";
@@ -129,7 +102,7 @@ class JsonWriter {
     out_ += first_.back() ? "\n" : ",\n";
     first_.back() = false;
     out_ += fmt::format("{:{}}", "", 2 * closers_.size());
-    if (!key.empty()) out_ += json_string(key) + ": ";
+    if (!key.empty()) out_ += json_quote(key) + ": ";
   }
   JsonWriter& raw(std::string_view key, const std::string& text) {
     prefix(key);

@@ -1,5 +1,7 @@
 #include "pilempm/study/figures.hpp"
 
+#include "pilempm/io/json_text.hpp"
+
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -58,35 +60,6 @@ std::string panel_json(const PanelSpec& p) {
 }
 
 }  // namespace
-
-std::string json_quote(std::string_view text) {
-  std::string out = "\"";
-  for (char ch : text) {
-    switch (ch) {
-      case '"':
-        out += "\\\"";
-        break;
-      case '\\':
-        out += "\\\\";
-        break;
-      case '\n':
-        out += "\\n";
-        break;
-      case '\t':
-        out += "\\t";
-        break;
-      case '\r':
-        out += "\\r";
-        break;
-      default:
-        if (static_cast<unsigned char>(ch) < 0x20)
-          out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(ch)));
-        else
-          out += ch;
-    }
-  }
-  return out + "\"";
-}
 
 std::string figures_json(const std::vector<FigureSpec>& figures) {
   std::string out = "{\n  \"version\": 1,\n  \"figures\": [";

@@ -59,7 +59,4 @@ std::string figures_json(const std::vector<FigureSpec>& figures);
 /// The CSV files the figures read, each once, in order of first use.
 std::vector<std::string> figure_csv_files(const std::vector<FigureSpec>& figures);
 
-/// A JSON string literal (quotes added, special characters escaped).
-std::string json_quote(std::string_view text);
-
 }  // namespace pilempm
