@@ -9,7 +9,9 @@
 #include <cmath>
 #include <cstring>
 
-#include "pilempm/io/json_text.hpp"
+#include "pilempm/io/text_escaping.hpp"
+
+#include "pilempm/io/text_escaping.hpp"
 
 namespace pilempm {
 
@@ -113,16 +115,6 @@ class JsonWriter {
   std::vector<char> closers_;
   std::vector<bool> first_;
 };
-
-std::string csv_field(std::string_view s) {
-  if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
-  std::string out = "\"";
-  for (char ch : s) {
-    if (ch == '"') out += '"';
-    out += ch;
-  }
-  return out + "\"";
-}
 
 std::string igs_name(const ElementCase& c) {
   if (c.material.kind != ModelKind::hypoplastic) return "-";

@@ -20,6 +20,8 @@
 #include "pilempm/study/figures.hpp"
 #include "pilempm/study/study_calibration_case.hpp"  // generated from examples/study_calibration.toml
 
+#include "pilempm/io/text_escaping.hpp"
+
 namespace pilempm {
 
 namespace fs = std::filesystem;
@@ -88,16 +90,6 @@ std::string csv_number(double value) {
   return fmt::format("{}", value + 0.0);
 }
 
-std::string csv_field(std::string_view s) {
-  if (s.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(s);
-  std::string out = "\"";
-  for (char ch : s) {
-    if (ch == '"') out += '"';
-    out += ch;
-  }
-  return out + "\"";
-}
-
 // A CSV text built row by row; the header has the unit of each column in its name.
 class CsvText {
  public:
@@ -106,7 +98,10 @@ class CsvText {
     add(header);
   }
   void add(const std::vector<std::string>& row) {
-    for (std::size_t i = 0; i < row.size(); ++i) text_ += (i ? "," : "") + csv_field(row[i]);
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      if (i > 0) text_ += ',';
+      text_ += csv_field(row[i]);
+    }
     text_ += '\n';
   }
   const std::string& text() const { return text_; }

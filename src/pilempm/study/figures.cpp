@@ -1,6 +1,6 @@
 #include "pilempm/study/figures.hpp"
 
-#include "pilempm/io/json_text.hpp"
+#include "pilempm/io/text_escaping.hpp"
 
 #include <fmt/format.h>
 

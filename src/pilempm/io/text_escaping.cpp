@@ -1,4 +1,4 @@
-#include "pilempm/io/json_text.hpp"
+#include "pilempm/io/text_escaping.hpp"
 
 #include <fmt/format.h>
 
@@ -29,6 +29,16 @@ std::string json_quote(std::string_view text) {
         else
           out += ch;
     }
+  }
+  return out + "\"";
+}
+
+std::string csv_field(std::string_view text) {
+  if (text.find_first_of(",\"\n\r") == std::string_view::npos) return std::string(text);
+  std::string out = "\"";
+  for (char ch : text) {
+    if (ch == '"') out += '"';
+    out += ch;
   }
   return out + "\"";
 }
