@@ -143,6 +143,15 @@ void RigidBody::set_contact_distance(double distance) {
 
 void RigidBody::translate(const Vec2& displacement) {
   for (Vec2& v : vertices_) v += displacement;
+  displacement_ += displacement;
+}
+
+void RigidBody::restore_position(const std::vector<Vec2>& vertices, const Vec2& displacement) {
+  if (vertices.size() != vertices_.size())
+    throw InvalidValue("rigid body vertex count", std::to_string(vertices.size()),
+                       std::to_string(vertices_.size()) + " (the body's own)");
+  vertices_ = vertices;
+  displacement_ = displacement;
 }
 
 }  // namespace pilempm::mpm

@@ -58,6 +58,11 @@ class RigidBody {
   void set_contact_distance(double distance);
   /// Moves the body by `displacement` [m] (the solver does this by v Δt after each step).
   void translate(const Vec2& displacement);
+  /// The sum of all translations since the body was made [m].
+  const Vec2& displacement() const { return displacement_; }
+  /// Puts the body back where a checkpoint found it: its vertices (as vertices() returned them)
+  /// and its displacement. Throws InvalidValue for a different number of vertices.
+  void restore_position(const std::vector<Vec2>& vertices, const Vec2& displacement);
 
  private:
   RigidBody() = default;
@@ -69,6 +74,7 @@ class RigidBody {
   Vec2 velocity_ = Vec2::Zero();
   double friction_ = 0.0;
   double contact_distance_ = 0.0;
+  Vec2 displacement_ = Vec2::Zero();
 };
 
 }  // namespace pilempm::mpm

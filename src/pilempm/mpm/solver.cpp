@@ -63,6 +63,24 @@ void SolverSettings::validate() const {
   if (wave_speed_interval < 1)
     throw InvalidValue("wave_speed_interval", std::to_string(wave_speed_interval), ">= 1");
   if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0 (0: default)");
+  bool side_taken[4] = {false, false, false, false};
+  for (const AbsorbingBoundary& boundary : absorbing_boundaries) {
+    const int side = static_cast<int>(boundary.side);
+    if (side < 0 || side > 3)
+      throw InvalidValue("absorbing boundary side", std::to_string(side), "0..3");
+    if (side_taken[side])
+      throw InvalidValue("absorbing boundary side", std::to_string(side), "at most one per side");
+    side_taken[side] = true;
+    if (!(boundary.density > 0.0 && std::isfinite(boundary.density)))
+      throw InvalidValue("absorbing boundary density_kg_per_m3", format_value(boundary.density),
+                         "> 0");
+    if (!(boundary.p_wave_speed >= 0.0 && std::isfinite(boundary.p_wave_speed)))
+      throw InvalidValue("absorbing boundary p_wave_speed_m_per_s",
+                         format_value(boundary.p_wave_speed), ">= 0");
+    if (!(boundary.s_wave_speed >= 0.0 && std::isfinite(boundary.s_wave_speed)))
+      throw InvalidValue("absorbing boundary s_wave_speed_m_per_s",
+                         format_value(boundary.s_wave_speed), ">= 0");
+  }
 }
 
 Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
@@ -157,6 +175,38 @@ void Solver::set_material(int index, ModelPtr model) {
 std::vector<Solver::ThreadAccount>& Solver::reset_thread_accounts() {
   for (ThreadAccount& account : thread_accounts_) account = ThreadAccount{};
   return thread_accounts_;
+}
+
+SolverRunState Solver::run_state() const {
+  SolverRunState state;
+  state.time = time_;
+  state.steps = steps_;
+  state.energies = energies_;
+  state.max_wave_speed = max_wave_speed_;
+  state.wave_speed_step = wave_speed_step_;
+  state.max_particle_speed = max_particle_speed_;
+  state.rigid_body_forces = rigid_body_forces_;
+  return state;
+}
+
+void Solver::restore_run_state(const SolverRunState& state) {
+  if (state.rigid_body_forces.size() != rigid_bodies_.size())
+    throw InvalidValue("rigid body forces in the run state",
+                       std::to_string(state.rigid_body_forces.size()),
+                       fmt::format("{} (one per rigid body)", rigid_bodies_.size()));
+  for (std::size_t b = 0; b < rigid_bodies_.size(); ++b)
+    if (state.rigid_body_forces[b].parts.size() !=
+        static_cast<std::size_t>(rigid_bodies_[b].part_count()))
+      throw InvalidValue(fmt::format("surface parts of rigid body {} in the run state", b),
+                         std::to_string(state.rigid_body_forces[b].parts.size()),
+                         std::to_string(rigid_bodies_[b].part_count()));
+  time_ = state.time;
+  steps_ = state.steps;
+  energies_ = state.energies;
+  max_wave_speed_ = state.max_wave_speed;
+  wave_speed_step_ = state.wave_speed_step;
+  max_particle_speed_ = state.max_particle_speed;
+  rigid_body_forces_ = state.rigid_body_forces;
 }
 
 std::size_t Solver::bytes_per_particle() const {

@@ -41,6 +41,18 @@ enum class UpdateScheme {
   musl,  ///< modified USL: from the particle velocities mapped back to the grid
 };
 
+/// A viscous (absorbing) boundary on one side of the grid (Lysmer & Kuhlemeyer 1969): dashpots
+/// at the side's nodes with the traction -ρ c_p v_n normal and -ρ c_s v_t tangential to the
+/// side, over each node's share of the side (times r in axisymmetry). A wave arriving normally
+/// with these speeds leaves without reflection. The dashpot acts on the free velocity components
+/// only; it is integrated implicitly, so it is stable for any coefficient.
+struct AbsorbingBoundary {
+  Side side = Side::right;
+  double density = 0.0;       ///< ρ of the soil behind the side [kg/m^3], > 0
+  double p_wave_speed = 0.0;  ///< c_p [m/s], >= 0
+  double s_wave_speed = 0.0;  ///< c_s [m/s], >= 0
+};
+
 struct SolverSettings {
   Geometry geometry = Geometry::plane_strain;
   UpdateScheme scheme = UpdateScheme::musl;
@@ -60,14 +72,20 @@ struct SolverSettings {
   /// number leaves a margin; 1 evaluates every step.
   int wave_speed_interval = 10;
   int threads = 0;  ///< OpenMP threads; 0: omp_get_max_threads()
+  /// Volumetric-locking remedy: the volumetric strain increment of each particle is replaced by
+  /// the volume-weighted mean over the particles of its grid cell (the deviatoric part is kept),
+  /// in the spirit of B-bar/F-bar (Coombs et al. 2018, "F-bar MPM").
+  bool volumetric_smoothing = false;
+  /// Dashpots on sides of the grid, at most one per side.
+  std::vector<AbsorbingBoundary> absorbing_boundaries;
 
   /// Throws InvalidValue naming the first setting out of range.
   void validate() const;
 };
 
 /// Energy account of the run [J] (per unit thickness in plane strain, per radian in
-/// axisymmetry). With no damping, kinetic + internal - external_work is conserved; with damping,
-/// kinetic + internal + damping - external_work.
+/// axisymmetry). kinetic + internal + damping + absorbed - external_work - contact_work is
+/// conserved (up to the time discretisation and the frictional slip at contacts).
 struct Energies {
   /// ½ Σ m v² (inertial mass) at the end of the last step (at construction: initial velocities).
   /// The velocities belong to mid-step (x_n+1 = x_n + Δt v_n+1), so kinetic + internal at one
@@ -76,6 +94,10 @@ struct Energies {
   double internal = 0.0;       ///< strain work Σ V σ:Δε, accumulated
   double external_work = 0.0;  ///< work of gravity and particle loads, accumulated
   double damping = 0.0;        ///< dissipated by local damping, accumulated
+  /// Work of the rigid bodies on the soil (what the contact corrections add to the nodal kinetic
+  /// energy), accumulated; part of the external work in the balance.
+  double contact_work = 0.0;
+  double absorbed = 0.0;  ///< dissipated by absorbing boundaries, accumulated
 };
 
 /// Contact force on a rigid body over the last step [N] (per unit thickness in plane strain, per
@@ -84,6 +106,18 @@ struct Energies {
 struct RigidBodyForce {
   Vec2 total = Vec2::Zero();
   std::vector<Vec2> parts;
+};
+
+/// What a step carries to the next besides particles, rigid bodies and settings: a checkpoint
+/// stores it, and a restart restores it, so that the run continues bitwise.
+struct SolverRunState {
+  double time = 0.0;
+  long steps = 0;
+  Energies energies;
+  double max_wave_speed = 0.0;      ///< at the last evaluation of the wave speeds
+  long wave_speed_step = -1;        ///< the step of that evaluation (-1: none yet)
+  double max_particle_speed = 0.0;  ///< max |v_p| after the last step
+  std::vector<RigidBodyForce> rigid_body_forces;
 };
 
 class Solver {
@@ -138,6 +172,13 @@ class Solver {
   const RigidBodyForce& rigid_body_force(int index) const {
     return rigid_body_forces_.at(static_cast<std::size_t>(index));
   }
+
+  /// The state a checkpoint needs besides particles, bodies and settings.
+  SolverRunState run_state() const;
+  /// Restores a checkpoint's run state (after the particles and the bodies; the settings of the
+  /// phase are to be set first, since set_settings() forgets the wave speeds). Throws
+  /// InvalidValue when the rigid-body forces do not fit the bodies.
+  void restore_run_state(const SolverRunState& state);
 
   /// Particle data plus the solver's per-particle scratch [bytes].
   std::size_t bytes_per_particle() const;

@@ -1,0 +1,42 @@
+#pragma once
+// Checkpoints of MPM runs in HDF5: everything a run needs to continue exactly as it would have
+// without stopping (bitwise, for the same build and thread count): all particle fields with their
+// material states, the rigid bodies' positions, velocities and friction, the solver's run state
+// (time, step count, energies, cached wave speed, last contact forces), and what the run loop
+// needs (the next phase, the particles' initial positions, the output records so far).
+// The materials are not stored: a restart takes them from the case file, so a checkpoint can be
+// continued with a different parameter set while every particle keeps its stress, void ratio and
+// intergranular strain. Files are written atomically (FILE.tmp, then renamed).
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pilempm/mpm/solver.hpp"
+
+namespace pilempm {
+
+/// What the run loop stores in a checkpoint besides the solver.
+struct MpmCheckpointInfo {
+  std::string case_source;   ///< the case file the run came from (for messages)
+  int next_phase = 0;        ///< index of the phase to run next (= phases completed)
+  double phase_start = 0.0;  ///< start time of that phase [s] (the time at the checkpoint)
+  std::vector<mpm::Vec2> initial_position;  ///< particle positions at t = 0 (displacement output)
+  /// Output written so far, by name (for example "energies.csv", "bodies.csv", the PVD entries),
+  /// so that a restarted run's files equal the uninterrupted run's.
+  std::map<std::string, std::string> records;
+};
+
+/// Writes `solver` and `info` to `file` (HDF5), atomically. Throws Error naming the file when
+/// it cannot be written.
+void write_mpm_checkpoint(const std::filesystem::path& file, const mpm::Solver& solver,
+                          const MpmCheckpointInfo& info);
+
+/// Reads `file` into `solver`, which must be made from the same case (the same geometry, grid
+/// node count, number of particles, materials count and rigid bodies with their vertex counts):
+/// replaces the particles, the rigid bodies' positions, velocities, friction and contact
+/// distances, and the run state. Call it after setting the solver's settings. Throws InputError
+/// naming the file and what does not match (nothing in `solver` is changed then).
+MpmCheckpointInfo read_mpm_checkpoint(const std::filesystem::path& file, mpm::Solver& solver);
+
+}  // namespace pilempm
