@@ -1,0 +1,488 @@
+#!/usr/bin/env python3
+"""Checks and plots the MPM verification cases of issue 4 (docs/verification.md).
+
+Reads the output folders that `pilempm mpm run examples/mpm/<name>.toml --out RESULTS/<name>`
+wrote (particles_*.vtu, particles.pvd, energies.csv, bodies.csv), the case files themselves (for
+the dimensions and material constants), computes the analytical or experimental reference and
+the error of each verification, draws the figures into FIGURES/ and writes RESULTS/summary.md
+and RESULTS/summary.csv with one row per check. Prints one line per check and exits 1 when a
+check fails or a case's results are missing.
+
+    /usr/bin/python3 tools/plot/plot_verification.py [--results results/verification]
+        [--cases examples/mpm] [--figures docs/figures/verification] [--no-plots]
+        [--only CASE,CASE,...]
+
+Only python3 (3.11: tomllib), numpy and matplotlib.
+"""
+import argparse
+import base64
+import csv
+import math
+import os
+import re
+import struct
+import sys
+import tomllib
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+G = 9.81  # the solver's default gravity [m/s^2]; a case's [solver] gravity_m_per_s2 wins
+
+
+# ----------------------------------------------------------------------------------------------
+# Reading the output
+
+
+def read_vtu(path):
+    """The points (n x 3) and the point fields {name: array (n,) or (n, k)} of one VTU file
+    written by pilempm (binary DataArrays: base64 of [UInt32 byte count][values])."""
+    kinds = {"Float64": "d", "Float32": "f", "Int64": "q", "Int32": "i", "UInt8": "B"}
+    root = ET.parse(path).getroot()
+    piece = root.find("UnstructuredGrid/Piece")
+    fields = {}
+
+    def decode(array):
+        raw = base64.b64decode(array.text.strip())
+        (count,) = struct.unpack_from("<I", raw, 0)
+        code = kinds[array.get("type")]
+        values = np.frombuffer(raw[4:4 + count], dtype="<" + code)
+        k = int(array.get("NumberOfComponents", "1"))
+        return values.reshape(-1, k) if k > 1 else values
+
+    for array in piece.find("PointData"):
+        fields[array.get("Name")] = decode(array)
+    points = decode(piece.find("Points/DataArray"))
+    return points, fields
+
+
+def read_pvd(folder):
+    """[(time, vtu path)] of a run, in time order."""
+    root = ET.parse(os.path.join(folder, "particles.pvd")).getroot()
+    series = [(float(d.get("timestep")), os.path.join(folder, d.get("file")))
+              for d in root.iter("DataSet")]
+    return sorted(series)
+
+
+def read_csv(path):
+    """{column: np.array} of a CSV file with '#' comment lines and a header row."""
+    with open(path) as f:
+        rows = [line for line in f if line.strip() and not line.startswith("#")]
+    reader = csv.reader(rows)
+    header = next(reader)
+    data = [r for r in reader]
+    out = {}
+    for j, name in enumerate(header):
+        try:
+            out[name] = np.array([float(r[j]) for r in data])
+        except ValueError:
+            out[name] = [r[j] for r in data]
+    return out
+
+
+def read_case(cases, name):
+    with open(os.path.join(cases, name + ".toml"), "rb") as f:
+        return tomllib.load(f)
+
+
+def gravity(case):
+    return case.get("solver", {}).get("gravity_m_per_s2", G)
+
+
+def material(case, name):
+    for m in case["material"]:
+        if m["name"] == name:
+            return m
+    raise KeyError(name)
+
+
+def cell_size(case, axis):
+    a = case["grid"][axis]
+    return (a["max_m"] - a["min_m"]) / a["cells"]
+
+
+def particles_per_cell(region):
+    n = region.get("particles_per_cell", 2)
+    return (n, n) if isinstance(n, int) else tuple(n)
+
+
+# ----------------------------------------------------------------------------------------------
+# Bookkeeping of the checks
+
+
+class Checks:
+    def __init__(self):
+        self.rows = []  # (verification, case, quantity, measured, tolerance, passed)
+
+    def add(self, verification, case, quantity, measured, tolerance, passed):
+        self.rows.append((verification, case, quantity, measured, tolerance, bool(passed)))
+        status = "PASS" if passed else "FAIL"
+        print(f"{status}  {verification:<18s} {case:<36s} {quantity}: {measured} "
+              f"(tolerance {tolerance})", flush=True)
+
+    def missing(self, verification, case, why):
+        self.rows.append((verification, case, "results", "missing: " + why, "-", False))
+        print(f"FAIL  {verification:<18s} {case:<36s} results missing: {why}", flush=True)
+
+    def failed(self):
+        return [r for r in self.rows if not r[5]]
+
+    def write(self, folder):
+        with open(os.path.join(folder, "summary.csv"), "w", newline="") as f:
+            w = csv.writer(f)
+            w.writerow(["verification", "case", "quantity", "measured", "tolerance", "status"])
+            for r in self.rows:
+                w.writerow(list(r[:5]) + ["PASS" if r[5] else "FAIL"])
+        with open(os.path.join(folder, "summary.md"), "w") as f:
+            f.write("| verification | case | quantity | measured | tolerance | status |\n")
+            f.write("|---|---|---|---|---|---|\n")
+            for r in self.rows:
+                f.write("| {} | `{}` | {} | {} | {} | {} |\n".format(
+                    *r[:5], "PASS" if r[5] else "**FAIL**"))
+
+
+ONLY = None  # the case names to check (--only); None: every case file there is
+
+
+def have(results, cases, name, checks, verification):
+    """True when the case's results are there; a missing folder (for an existing case file) is a
+    failed check."""
+    if not os.path.exists(os.path.join(cases, name + ".toml")):
+        return False
+    if ONLY is not None and name not in ONLY:
+        return False
+    if not os.path.exists(os.path.join(results, name, "particles.pvd")):
+        checks.missing(verification, name, os.path.join(results, name))
+        return False
+    return True
+
+
+def new_figure(plt, *size):
+    return plt.figure(figsize=size if size else (6.4, 4.2), dpi=100)
+
+
+def save(fig, figures, name):
+    if figures is None:
+        return
+    fig.tight_layout()
+    fig.savefig(os.path.join(figures, name), dpi=100)
+
+
+# ----------------------------------------------------------------------------------------------
+# 1. Self-weight column
+
+
+def column_self_weight(results, cases, figures, plt, checks):
+    for geometry, label in (("plane_strain", "plane strain"), ("axisymmetric", "axisymmetric")):
+        meshes, errors, sizes, profiles = [], [], [], []
+        for n in (16, 32, 64):
+            name = f"column_self_weight_{geometry}_{n}"
+            if not have(results, cases, name, checks, "1 self-weight"):
+                continue
+            case = read_case(cases, name)
+            region = case["region"][0]
+            rho, height = region["density_kg_per_m3"], region["y_max_m"] - region["y_min_m"]
+            g = gravity(case)
+            series = read_pvd(os.path.join(results, name))
+            points0, _ = read_vtu(series[0][1])
+            points, fields = read_vtu(series[-1][1])
+            y0 = points0[:, 1]
+            depth = region["y_max_m"] - y0
+            exact = rho * g * depth / 1e3  # kPa
+            sigma_v = fields["stress_kPa_compression_positive"][:, 4]
+            deep = depth >= 0.2 * height
+            error = np.mean(np.abs(sigma_v[deep] - exact[deep]) / exact[deep])
+            energies = read_csv(os.path.join(results, name, "energies.csv"))
+            rest = energies["kinetic_J"][-1] / max(energies["internal_J"][-1], 1e-300)
+            meshes.append(n)
+            errors.append(error)
+            sizes.append(cell_size(case, "y"))
+            profiles.append((n, depth, sigma_v, rho * g * height / 1e3, height))
+            checks.add("1 self-weight", name, "at rest: kinetic / internal energy",
+                       f"{rest:.1e}", "< 1e-6", rest < 1e-6)
+            if n == 64:
+                checks.add("1 self-weight", name,
+                           "mean |σ_v − ρgz| / ρgz (depth ≥ 0.2 H), finest mesh",
+                           f"{100 * error:.3f} %", "< 1 %", error < 0.01)
+        if len(meshes) >= 2:
+            order = np.polyfit(np.log(sizes), np.log(errors), 1)[0]
+            checks.add("1 self-weight", f"column_self_weight_{geometry}_*",
+                       f"observed order on {len(meshes)} meshes ({', '.join(map(str, meshes))})",
+                       f"{order:.2f}", "> 0.8 (first order)", order > 0.8)
+        if plt is None or not meshes:
+            continue
+        fig = new_figure(plt, 9.6, 4.2)
+        ax = fig.add_subplot(1, 2, 1)
+        z = np.linspace(0, profiles[0][4], 50)
+        ax.plot(profiles[0][3] * z / profiles[0][4], z, "k-", lw=1, label="ρ g z (exact)")
+        for (n, depth, sigma_v, _, _), marker in zip(profiles, ("o", "s", "^")):
+            ax.plot(sigma_v, depth, marker, ms=3, mfc="none", label=f"{n} cells over H")
+        ax.invert_yaxis()
+        ax.set_xlabel("vertical stress σ_v [kPa]")
+        ax.set_ylabel("depth z = H − Y [m]")
+        ax.set_title(f"Self-weight column, {label}")
+        ax.legend(fontsize=8)
+        ax = fig.add_subplot(1, 2, 2)
+        ax.loglog(sizes, errors, "o-", label="MPM")
+        if len(meshes) >= 2:
+            fit = np.polyfit(np.log(sizes), np.log(errors), 1)
+            hs = np.array([min(sizes), max(sizes)])
+            ax.loglog(hs, np.exp(np.polyval(fit, np.log(hs))), "k--", lw=1,
+                      label=f"fit: order {fit[0]:.2f}")
+        ax.set_xlabel("cell size h [m]")
+        ax.set_ylabel("mean relative error of σ_v (z ≥ 0.2 H)")
+        ax.axhline(0.01, color="r", lw=0.8, ls=":", label="1 % tolerance")
+        ax.legend(fontsize=8)
+        ax.grid(True, which="both", lw=0.3)
+        save(fig, figures, f"column_self_weight_{geometry}.png")
+        plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
+# 2. Bar vibration
+
+
+def bar_exact_displacement(t, x, v0, c, length):
+    """Fixed (x = 0) - free (x = L) bar started in its first mode, v(x, 0) = v0 sin(πx / 2L):
+    u(x, t) = (v0 / ω) sin(πx / 2L) sin(ωt), ω = πc / 2L."""
+    omega = math.pi * c / (2.0 * length)
+    return v0 / omega * math.sin(math.pi * x / (2.0 * length)) * np.sin(omega * t)
+
+
+def downward_crossings(t, u):
+    out = []
+    for k in range(1, len(t)):
+        if u[k - 1] > 0.0 >= u[k]:
+            out.append(t[k - 1] + (t[k] - t[k - 1]) * u[k - 1] / (u[k - 1] - u[k]))
+    return out
+
+
+def bar_vibration(results, cases, figures, plt, checks):
+    name = "bar_vibration"
+    if not have(results, cases, name, checks, "2 bar vibration"):
+        return
+    case = read_case(cases, name)
+    regions = case["region"]
+    region = regions[0]
+    m = material(case, region["material"])
+    rho, young, nu = region["density_kg_per_m3"], m["young_modulus_MPa"] * 1e6, m["poisson_ratio"]
+    oedometric = young * (1 - nu) / ((1 + nu) * (1 - 2 * nu))
+    c = math.sqrt(oedometric / rho)
+    x_start = min(r["x_min_m"] for r in regions)
+    length = max(r["x_max_m"] for r in regions) - x_start
+    # The amplitude v0 of the mode from the region at the free end (velocity at its centre).
+    last = max(regions, key=lambda r: r["x_max_m"])
+    centre = 0.5 * (last["x_min_m"] + last["x_max_m"]) - x_start
+    v0 = last["velocity_x_m_per_s"] / math.sin(math.pi * centre / (2 * length))
+    period = 4 * length / c
+    series = read_pvd(os.path.join(results, name))
+    times = np.array([t for t, _ in series])
+    points0, _ = read_vtu(series[0][1])
+    tip = int(np.argmax(points0[:, 0]))
+    x_tip = points0[tip, 0] - x_start
+    u_tip = np.array([read_vtu(f)[1]["displacement_m"][tip, 0] for _, f in series])
+    crossings = downward_crossings(times, u_tip)
+    measured_period = (crossings[-1] - crossings[0]) / (len(crossings) - 1)
+    period_error = (measured_period - period) / period
+    amplitude = np.max(np.abs(u_tip))
+    exact_amplitude = float(bar_exact_displacement(length / c, x_tip, v0, c, length))
+    amplitude_error = (amplitude - exact_amplitude) / exact_amplitude
+    exact = bar_exact_displacement(times, x_tip, v0, c, length)
+    energies = read_csv(os.path.join(results, name, "energies.csv"))
+    total = energies["kinetic_J"] + energies["internal_J"] - energies["external_work_J"]
+    drift = (total - total[0]) / total[0]
+    periods = times[-1] / period
+    checks.add("2 bar vibration", name,
+               f"period (mean of {len(crossings) - 1} periods) vs 4L/c = {period * 1e3:.3f} ms",
+               f"{measured_period * 1e3:.4f} ms ({100 * period_error:+.3f} %)", "±2 %",
+               abs(period_error) < 0.02)
+    checks.add("2 bar vibration", name,
+               f"tip amplitude vs (v0/ω) sin(π x_tip/2L) = {exact_amplitude * 1e3:.4f} mm",
+               f"{amplitude * 1e3:.4f} mm ({100 * amplitude_error:+.2f} %)", "±2 %",
+               abs(amplitude_error) < 0.02)
+    checks.add("2 bar vibration", name,
+               f"max |E − E0| / E0 over {periods:.1f} periods (no damping)",
+               f"{100 * np.max(np.abs(drift)):.3f} %", "< 1 %", np.max(np.abs(drift)) < 0.01)
+    if plt is None:
+        return
+    fig = new_figure(plt, 9.6, 4.2)
+    ax = fig.add_subplot(1, 2, 1)
+    fine = np.linspace(0, times[-1], 4000)
+    ax.plot(fine / period, 1e3 * bar_exact_displacement(fine, x_tip, v0, c, length), "k-", lw=1,
+            label="exact: (v0/ω) sin(πx/2L) sin(ωt)")
+    ax.plot(times / period, 1e3 * u_tip, ".", ms=3, label="MPM, particle at the tip")
+    ax.set_xlabel("t / (4L/c)")
+    ax.set_ylabel("tip displacement [mm]")
+    ax.set_title(f"Bar vibration: period {100 * period_error:+.2f} %, "
+                 f"amplitude {100 * amplitude_error:+.2f} %", fontsize=10)
+    ax.legend(fontsize=8, loc="lower left")
+    ax = fig.add_subplot(1, 2, 2)
+    t = energies["time_s"] / period
+    e0 = total[0]
+    ax.plot(t, energies["kinetic_J"] / e0, lw=0.8, label="kinetic")
+    ax.plot(t, energies["internal_J"] / e0, lw=0.8, label="strain")
+    ax.plot(t, total / e0, "k-", lw=1.2, label="total")
+    ax.set_xlabel("t / (4L/c)")
+    ax.set_ylabel("energy / initial energy")
+    ax.set_title(f"max |total drift| {100 * np.max(np.abs(drift)):.2f} %", fontsize=10)
+    ax.legend(fontsize=8, loc="center right")
+    save(fig, figures, "bar_vibration.png")
+    plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
+# 4. Granular column collapse
+
+
+def lube_runout(a):
+    """Lube, Huppert, Sparks & Freundt (2005), 2D collapses: (L∞ − L0)/L0 = 1.2 a for a < 1.8,
+    1.9 a^(2/3) for a > 2.8 (interpolated between, as tests/mpm/test_column_collapse.cpp)."""
+    a = np.asarray(a, dtype=float)
+    low, high = 1.2 * a, 1.9 * a ** (2.0 / 3.0)
+    w = np.clip((a - 1.8) / 1.0, 0.0, 1.0)
+    middle = (1 - w) * 1.2 * 1.8 + w * 1.9 * 2.8 ** (2.0 / 3.0)
+    return np.where(a <= 1.8, low, np.where(a >= 2.8, high, middle))
+
+
+COLLAPSE_TOLERANCE = 0.25  # as in tests/mpm/test_column_collapse.cpp
+
+
+def collapse_runout(results, cases, name):
+    case = read_case(cases, name)
+    region = case["region"][0]
+    width = region["x_max_m"] - region["x_min_m"]
+    aspect = (region["y_max_m"] - region["y_min_m"]) / width
+    half = 0.5 * cell_size(case, "x") / particles_per_cell(region)[0]
+    series = read_pvd(os.path.join(results, name))
+    points, _ = read_vtu(series[-1][1])
+    before, _ = read_vtu(series[-2][1])
+    # The front: the right edge of the farthest particle domain (its initial half-size).
+    front = np.max(points[:, 0]) + half
+    creep = (front - np.max(before[:, 0]) - half) / width / (series[-1][0] - series[-2][0])
+    energies = read_csv(os.path.join(results, name, "energies.csv"))
+    kinetic = energies["kinetic_J"]
+    return dict(aspect=aspect, width=width, runout=(front - width) / width, creep=creep,
+                rest=kinetic[-1] / np.max(kinetic), points=points, half=half,
+                n=round(width / cell_size(case, "x")), time=series[-1][0])
+
+
+def column_collapse(results, cases, figures, plt, checks):
+    runs = {}
+    for name in sorted(os.listdir(cases)):
+        if not name.startswith("column_collapse_") or not name.endswith(".toml"):
+            continue
+        name = name[:-5]
+        if have(results, cases, name, checks, "4 column collapse"):
+            runs[name] = collapse_runout(results, cases, name)
+    by_aspect = {}
+    for name, r in runs.items():
+        by_aspect.setdefault(r["aspect"], []).append((r["n"], name, r))
+        checks.add("4 column collapse", name,
+                   f"at rest at t = {r['time']:g} s: kinetic energy / its peak "
+                   f"(front still creeping at {r['creep']:.3f} L0/s)",
+                   f"{r['rest']:.1e}", "< 1e-3", r["rest"] < 1e-3)
+    final = {}
+    for a, items in sorted(by_aspect.items()):
+        items.sort()
+        expected = float(lube_runout(a))
+        if len(items) >= 2:  # first order in h (the rough base): Richardson from n and 2n
+            (n1, _, coarse), (n2, name2, fine) = items[-2], items[-1]
+            value = fine["runout"] + (fine["runout"] - coarse["runout"]) / (n2 / n1 - 1)
+            label = f"runout extrapolated from {n1} and {n2} cells over L0"
+            case_label = f"column_collapse a = {a:g} ({n1}, {n2})"
+        else:
+            n2, name2, fine = items[-1]
+            value, label, case_label = fine["runout"], f"runout, {n2} cells over L0", name2
+        ratio = value / expected
+        final[a] = (value, [(n, r["runout"]) for n, _, r in items])
+        checks.add("4 column collapse", case_label,
+                   f"{label} vs Lube 2005 {expected:.3f}",
+                   f"{value:.3f} (ratio {ratio:.3f})", f"±{100 * COLLAPSE_TOLERANCE:.0f} %",
+                   abs(ratio - 1) < COLLAPSE_TOLERANCE)
+    if plt is None or not runs:
+        return
+    fig = new_figure(plt, 9.6, 4.6)
+    ax = fig.add_subplot(1, 2, 1)
+    for k, (a, items) in enumerate(sorted(by_aspect.items())):
+        n, name, r = items[-1]
+        p = r["points"] / r["width"]
+        # The free surface: the highest particle domain top in columns two particles wide.
+        step = 4 * r["half"] / r["width"]
+        bins = np.floor(p[:, 0] / step).astype(int)
+        top = np.full(bins.max() + 1, np.nan)
+        np.fmax.at(top, bins, p[:, 1] + step / 4)
+        x = (np.arange(len(top)) + 0.5) * step
+        x = np.append(x[~np.isnan(top)], x[~np.isnan(top)][-1] + step / 2)
+        y = np.append(top[~np.isnan(top)], 0.0)
+        ax.plot(x, y, "-", color=f"C{k}", lw=1.2,
+                label=f"a = {a:g}, t = {r['time']:g} s ({n} cells/L0)")
+        ax.plot([0, 1, 1], [a, a, 0], ":", color=f"C{k}", lw=0.8)
+    ax.set_xlabel("x / L0")
+    ax.set_ylabel("y / L0")
+    ax.set_title("Final free surfaces (dotted: initial columns)", fontsize=10)
+    ax.set_aspect("equal")
+    ax.legend(fontsize=8)
+    ax = fig.add_subplot(1, 2, 2)
+    a = np.linspace(0.3, 5.0, 200)
+    law = lube_runout(a)
+    ax.plot(a, law, "k-", lw=1, label="Lube et al. (2005)")
+    ax.fill_between(a, (1 - COLLAPSE_TOLERANCE) * law, (1 + COLLAPSE_TOLERANCE) * law,
+                    color="0.85", label=f"±{100 * COLLAPSE_TOLERANCE:.0f} % (scatter)")
+    first = True
+    for aspect, (value, meshes) in sorted(final.items()):
+        for n, runout in meshes:
+            ax.plot(aspect, runout, "o", mfc="none", color="C0",
+                    label="MPM, one mesh (cells over L0)" if first else None)
+            ax.annotate(f"{n}", (aspect, runout), fontsize=7, xytext=(4, -2),
+                        textcoords="offset points")
+            first = False
+    extrapolated = [(aspect, v) for aspect, (v, meshes) in final.items() if len(meshes) >= 2]
+    if extrapolated:
+        ax.plot(*zip(*extrapolated), "s", color="C3", label="MPM, extrapolated h → 0")
+    ax.set_xlabel("aspect ratio a = H0 / L0")
+    ax.set_ylabel("runout (L∞ − L0) / L0")
+    ax.set_title("Runout against Lube et al. (2005)", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(True, lw=0.3)
+    save(fig, figures, "column_collapse.png")
+    plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--results", default="results/verification")
+    parser.add_argument("--cases", default="examples/mpm")
+    parser.add_argument("--figures", default="docs/figures/verification")
+    parser.add_argument("--no-plots", action="store_true")
+    parser.add_argument("--only", help="comma-separated case names to check (default: all the "
+                        "verification case files in --cases)")
+    args = parser.parse_args()
+    global ONLY
+    if args.only:
+        ONLY = set(args.only.split(","))
+    plt = None
+    if not args.no_plots:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        os.makedirs(args.figures, exist_ok=True)
+    figures = None if args.no_plots else args.figures
+    os.makedirs(args.results, exist_ok=True)
+    checks = Checks()
+    for verification in (column_self_weight, bar_vibration, column_collapse):
+        try:
+            verification(args.results, args.cases, figures, plt, checks)
+        except Exception as e:  # a broken case must not hide the others
+            checks.missing(verification.__name__, "-", f"{type(e).__name__}: {e}")
+    checks.write(args.results)
+    failed = checks.failed()
+    print(f"{len(checks.rows) - len(failed)} of {len(checks.rows)} checks passed; "
+          f"table in {os.path.join(args.results, 'summary.md')}")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
