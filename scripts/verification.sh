@@ -55,6 +55,23 @@ done
 [ ${#run_cases[@]} -eq 0 ] && run_cases=("${CASES[@]}")
 
 failed=0
+# run NAME ARGS...: runs pilempm ARGS, logs into $RESULTS/NAME.log, prints the time or FAIL.
+run() {
+  local name=$1
+  shift
+  local start ms
+  start=$(date +%s%N)
+  if "$PILEMPM" "$@" >"$RESULTS/$name.log" 2>&1; then
+    ms=$((($(date +%s%N) - start) / 1000000))
+    printf 'ran   %-40s %4d.%d s\n' "$name" $((ms / 1000)) $((ms % 1000 / 100))
+  else
+    echo "FAIL  run $name (see $RESULTS/$name.log):"
+    tail -n 5 "$RESULTS/$name.log"
+    failed=1
+    return 1
+  fi
+}
+
 if [ $plots_only -eq 0 ]; then
   if [ ! -x "$PILEMPM" ]; then
     echo "verification: $PILEMPM not found, building it (scripts/build.sh)"
@@ -68,14 +85,18 @@ if [ $plots_only -eq 0 ]; then
       failed=1
       continue
     fi
-    start=$(date +%s%N)
-    if "$PILEMPM" mpm run "$file" --out "$RESULTS/$name" --quiet >"$RESULTS/$name.log" 2>&1; then
-      ms=$((($(date +%s%N) - start) / 1000000))
-      printf 'ran   %-40s %4d.%d s\n' "$name" $((ms / 1000)) $((ms % 1000 / 100))
-    else
-      echo "FAIL  run $name (see $RESULTS/$name.log):"
-      tail -n 5 "$RESULTS/$name.log"
-      failed=1
+    run "$name" mpm run "$file" --out "$RESULTS/$name" --quiet || continue
+    # A restart case: run it again from the checkpoint of its first phase into <case>_resumed;
+    # the checks compare the two.
+    if [[ $name == restart_* ]]; then
+      checkpoint=$(ls "$RESULTS/$name"/checkpoint_01_*.h5 2>/dev/null | head -n 1)
+      if [ -z "$checkpoint" ]; then
+        echo "FAIL  run $name: no checkpoint_01_*.h5 in $RESULTS/$name"
+        failed=1
+        continue
+      fi
+      run "${name}_resumed" mpm run "$file" --out "$RESULTS/${name}_resumed" \
+        --restart "$checkpoint" --quiet
     fi
   done
 fi

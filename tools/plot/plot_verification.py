@@ -457,6 +457,270 @@ def column_collapse(results, cases, figures, plt, checks):
 
 
 # ----------------------------------------------------------------------------------------------
+# 3. Lamé thick cylinder
+
+
+def lame_cylinder(results, cases, figures, plt, checks):
+    runs = []
+    for n in (32, 64, 128):
+        name = f"lame_cylinder_{n}"
+        if not have(results, cases, name, checks, "3 Lamé"):
+            continue
+        case = read_case(cases, name)
+        region = case["region"][0]
+        inner, outer = region["x_min_m"], region["x_max_m"]
+        traction = [t for t in case["traction"] if t["region"] == region["name"]][0]
+        pressure = traction["normal_kPa"]
+        m = material(case, region["material"])
+        nu = m["poisson_ratio"]
+        big_a = pressure * inner ** 2 / (outer ** 2 - inner ** 2)
+        big_b = big_a * outer ** 2
+        h = cell_size(case, "x")
+        series = read_pvd(os.path.join(results, name))
+        points0, _ = read_vtu(series[0][1])
+        points, fields = read_vtu(series[-1][1])
+        r0, r = points0[:, 0], points[:, 0]
+        stress = -fields["stress_kPa_compression_positive"]  # tension positive [kPa]
+        radial, hoop, axial = stress[:, 0], stress[:, 8], stress[:, 4]
+        exact_r, exact_t = big_a - big_b / r ** 2, big_a + big_b / r ** 2
+        inside = (r0 > inner + 0.5 * h) & (r0 < outer - 0.5 * h)  # off the faces' layers
+        e_r = np.mean(np.abs(radial[inside] - exact_r[inside])) / pressure
+        e_t = np.mean(np.abs(hoop[inside] - exact_t[inside]) / np.abs(exact_t[inside]))
+        e_z = np.mean(np.abs(axial[inside] - 2 * nu * big_a)) / (2 * nu * big_a)
+        energies = read_csv(os.path.join(results, name, "energies.csv"))
+        rest = energies["kinetic_J"][-1] / max(energies["internal_J"][-1], 1e-300)
+        checks.add("3 Lamé", name, "at rest: kinetic / internal energy", f"{rest:.1e}", "< 1e-6",
+                   rest < 1e-6)
+        runs.append(dict(n=n, h=h, e_r=e_r, e_t=e_t, e_z=e_z, r=r, radial=radial, hoop=hoop,
+                         inner=inner, outer=outer, A=big_a, B=big_b, p=pressure, name=name))
+    if not runs:
+        return
+    finest = runs[-1]
+    checks.add("3 Lamé", finest["name"], "mean |σ_r − Lamé| / p_i (off the face layers)",
+               f"{100 * finest['e_r']:.3f} %", "< 2 %", finest["e_r"] < 0.02)
+    checks.add("3 Lamé", finest["name"], "mean |σ_θ − Lamé| / |Lamé| (off the face layers)",
+               f"{100 * finest['e_t']:.3f} %", "< 2 %", finest["e_t"] < 0.02)
+    checks.add("3 Lamé", finest["name"], "mean |σ_z − 2νA| / 2νA (off the face layers)",
+               f"{100 * finest['e_z']:.3f} %", "< 2 %", finest["e_z"] < 0.02)
+    if len(runs) >= 2:
+        hs = [x["h"] for x in runs]
+        order_r = np.polyfit(np.log(hs), np.log([x["e_r"] for x in runs]), 1)[0]
+        order_t = np.polyfit(np.log(hs), np.log([x["e_t"] for x in runs]), 1)[0]
+        checks.add("3 Lamé", "lame_cylinder_*", f"observed order, σ_r and σ_θ, "
+                   f"{', '.join(str(x['n']) for x in runs)} cells",
+                   f"{order_r:.2f}, {order_t:.2f}", "> 0.6 (as the CTest test)",
+                   order_r > 0.6 and order_t > 0.6)
+    if plt is None:
+        return
+    fig = new_figure(plt, 9.6, 4.2)
+    ax = fig.add_subplot(1, 2, 1)
+    rr = np.linspace(finest["inner"], finest["outer"], 200)
+    p = finest["p"]
+    ax.plot(rr, (finest["A"] - finest["B"] / rr ** 2) / p, "k-", lw=1, label="Lamé σ_r")
+    ax.plot(rr, (finest["A"] + finest["B"] / rr ** 2) / p, "k--", lw=1, label="Lamé σ_θ")
+    ax.plot(finest["r"], finest["radial"] / p, "o", ms=2, mfc="none", label="MPM σ_r")
+    ax.plot(finest["r"], finest["hoop"] / p, "s", ms=2, mfc="none", label="MPM σ_θ")
+    ax.set_xlabel("r [m]")
+    ax.set_ylabel("stress / p_i (tension positive)")
+    ax.set_title(f"Lamé cylinder, {finest['n']} cells over the wall", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(True, lw=0.3)
+    ax = fig.add_subplot(1, 2, 2)
+    hs = [x["h"] for x in runs]
+    ax.loglog(hs, [x["e_r"] for x in runs], "o-", label="σ_r: mean |error| / p_i")
+    ax.loglog(hs, [x["e_t"] for x in runs], "s-", label="σ_θ: mean relative error")
+    ax.axhline(0.02, color="r", lw=0.8, ls=":", label="2 % tolerance")
+    ax.set_xlabel("cell size h [m]")
+    ax.set_ylabel("error")
+    ax.legend(fontsize=8)
+    ax.grid(True, which="both", lw=0.3)
+    save(fig, figures, "lame_cylinder.png")
+    plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
+# 5. Strip footing (Prandtl)
+
+
+def polygon_of(case, name):
+    for b in case.get("body", []):
+        if b.get("name") == name:
+            return np.array(b["vertices_m"], dtype=float), b
+    raise KeyError(name)
+
+
+def body_rows(results, name, body):
+    rows = read_csv(os.path.join(results, name, "bodies.csv"))
+    keep = [i for i, b in enumerate(rows["body"]) if b == body]
+    return {k: (np.asarray(v)[keep] if isinstance(v, np.ndarray) else [v[i] for i in keep])
+            for k, v in rows.items()}
+
+
+PRANDTL_TOLERANCE = 0.05
+
+
+def strip_footing(results, cases, figures, plt, checks):
+    curves = []
+    for file in sorted(os.listdir(cases)):
+        if not file.startswith("strip_footing") or not file.endswith(".toml"):
+            continue
+        name = file[:-5]
+        if not have(results, cases, name, checks, "5 strip footing"):
+            continue
+        case = read_case(cases, name)
+        vertices, _ = polygon_of(case, "footing")
+        half_width = np.max(vertices[:, 0])  # the footing from the symmetry plane x = 0
+        region = case["region"][0]
+        cohesion = material(case, region["material"])["cohesion_kPa"]
+        rows = body_rows(results, name, "footing")
+        settlement = -rows["displacement_y_m"]
+        q = rows["force_y_N"] / half_width / 1e3  # kPa
+        width = 2 * half_width
+        # The limit: the mean pressure over the last quarter of the settlement.
+        last = settlement >= 0.75 * np.max(settlement)
+        limit = np.mean(q[last]) / cohesion
+        spread = np.std(q[last]) / cohesion
+        error = limit / (2 + math.pi) - 1
+        checks.add("5 strip footing", name,
+                   f"q/c over the last quarter of the settlement (±{spread:.2f} std) vs 2 + π",
+                   f"{limit:.3f} ({100 * error:+.2f} %)", f"±{100 * PRANDTL_TOLERANCE:.0f} %",
+                   abs(error) < PRANDTL_TOLERANCE)
+        curves.append((name, settlement / width, q / cohesion,
+                       round(half_width / cell_size(case, "x"))))
+    if plt is None or not curves:
+        return
+    fig = new_figure(plt)
+    ax = fig.add_subplot(1, 1, 1)
+    for name, s, qc, n in curves:
+        ax.plot(s, qc, "-", lw=1, label=f"MPM, {n} cells under B/2 ({name})")
+    ax.axhline(2 + math.pi, color="k", lw=1, label="Prandtl: 2 + π")
+    ax.axhspan((2 + math.pi) * (1 - PRANDTL_TOLERANCE), (2 + math.pi) * (1 + PRANDTL_TOLERANCE),
+               color="0.85", label="±5 %")
+    ax.set_xlabel("settlement / B")
+    ax.set_ylabel("bearing pressure q / c")
+    ax.set_title("Smooth strip footing on undrained (φ = 0) soil", fontsize=10)
+    ax.legend(fontsize=8, loc="lower right")
+    ax.grid(True, lw=0.3)
+    save(fig, figures, "strip_footing.png")
+    plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
+# 6. Block on an inclined plane
+
+
+def inclined_plane(results, cases, figures, plt, checks):
+    curves = []
+    for name in ("inclined_plane_slide", "inclined_plane_stick"):
+        if not have(results, cases, name, checks, "6 inclined plane"):
+            continue
+        case = read_case(cases, name)
+        vertices, body = polygon_of(case, "plane")
+        top = vertices[vertices[:, 1] > np.min(vertices[:, 1]) + 1e-12]
+        theta = math.atan(abs((top[1, 1] - top[0, 1]) / (top[1, 0] - top[0, 0])))
+        mu = math.tan(math.radians(body["interface_friction_angle_deg"]))
+        g = gravity(case)
+        series = read_pvd(os.path.join(results, name))
+        # Every particle has the same mass (equal sub-cells, plane strain): the centre of mass
+        # moves with the mean velocity. Downslope: the plane falls to the right.
+        down = np.array([math.cos(theta), -math.sin(theta)])
+        t = np.array([s[0] for s in series])
+        v = np.array([np.mean(read_vtu(f)[1]["velocity_m_per_s"][:, :2], axis=0) @ down
+                      for _, f in series])
+        expected = g * (math.sin(theta) - mu * math.cos(theta))
+        fit = t >= 0.05  # after the block has settled on the plane (as the CTest test)
+        if expected > 0:
+            slope = np.polyfit(t[fit], v[fit], 1)[0]
+            error = slope / expected - 1
+            checks.add("6 inclined plane", name,
+                       f"θ = {math.degrees(theta):.0f}°, μ = {mu:.2f}: acceleration (fit t ≥ 0.05 s) "
+                       f"vs g(sin θ − μ cos θ) = {expected:.4f} m/s²",
+                       f"{slope:.4f} m/s² ({100 * error:+.2f} %)", "±2 %", abs(error) < 0.02)
+        else:
+            free = g * math.sin(theta) * t[-1]
+            largest = np.max(np.abs(v[fit]))
+            checks.add("6 inclined plane", name,
+                       f"θ = {math.degrees(theta):.0f}°, μ = {mu:.2f} (sticks): largest |v| for "
+                       f"t ≥ 0.05 s vs free sliding g sin θ t = {free:.3f} m/s",
+                       f"{largest:.2e} m/s ({100 * largest / free:.2f} %)", "< 1 %",
+                       largest < 0.01 * free)
+        curves.append((name, theta, mu, t, v, max(expected, 0.0)))
+    if plt is None or not curves:
+        return
+    fig = new_figure(plt)
+    ax = fig.add_subplot(1, 1, 1)
+    for k, (name, theta, mu, t, v, expected) in enumerate(curves):
+        label = f"θ = {math.degrees(theta):.0f}°, μ = {mu:.2f}"
+        ax.plot(t, v, "o", ms=3, color=f"C{k}", label=f"MPM, {label}")
+        ax.plot(t, expected * t, "-", lw=1, color=f"C{k}",
+                label=f"max(0, g(sin θ − μ cos θ)) t, {label}")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("block velocity down the slope [m/s]")
+    ax.set_title("Block on an inclined plane with Coulomb friction", fontsize=10)
+    ax.legend(fontsize=8)
+    ax.grid(True, lw=0.3)
+    save(fig, figures, "inclined_plane.png")
+    plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
+# 7. Restart
+
+
+def restart(results, cases, figures, plt, checks):
+    name = "restart_collapse"
+    if not have(results, cases, name, checks, "7 restart"):
+        return
+    resumed = name + "_resumed"
+    if not os.path.exists(os.path.join(results, resumed, "particles.pvd")):
+        checks.missing("7 restart", resumed, os.path.join(results, resumed))
+        return
+    through = read_csv(os.path.join(results, name, "energies.csv"))
+    again = read_csv(os.path.join(results, resumed, "energies.csv"))
+    columns = [c for c in through if c.endswith("_J")]
+    same_rows = len(through["time_s"]) == len(again["time_s"])
+    energy_diff = max(np.max(np.abs(through[c] - again[c])) /
+                      max(np.max(np.abs(through[c])), 1e-300) for c in columns) \
+        if same_rows else float("inf")
+    a_points, a_fields = read_vtu(read_pvd(os.path.join(results, name))[-1][1])
+    b_points, b_fields = read_vtu(read_pvd(os.path.join(results, resumed))[-1][1])
+    position_diff = np.max(np.abs(a_points - b_points))
+    stress_diff = np.max(np.abs(a_fields["stress_kPa_compression_positive"] -
+                                b_fields["stress_kPa_compression_positive"]))
+    checks.add("7 restart", resumed, "energies.csv against the run that went through: largest "
+               "relative difference", f"{energy_diff:.1e} ({len(again['time_s'])} rows)",
+               "< 1e-12", energy_diff < 1e-12)
+    checks.add("7 restart", resumed, "final particles: largest |Δx| [m], |Δσ| [kPa]",
+               f"{position_diff:.1e}, {stress_diff:.1e}", "< 1e-12", 
+               position_diff < 1e-12 and stress_diff < 1e-9)
+    if plt is None:
+        return
+    fig = new_figure(plt, 9.6, 4.2)
+    ax = fig.add_subplot(1, 2, 1)
+    ax.plot(through["time_s"], through["kinetic_J"], "-", lw=2, color="0.6",
+            label="uninterrupted run")
+    ax.plot(again["time_s"], again["kinetic_J"], "--", lw=1, color="C3",
+            label="restarted from the checkpoint")
+    case = read_case(cases, name)
+    t_restart = case["phase"][0]["duration_s"]
+    ax.axvline(t_restart, color="k", lw=0.6, ls=":", label="checkpoint (end of phase 1)")
+    ax.set_xlabel("t [s]")
+    ax.set_ylabel("kinetic energy [J/m]")
+    ax.legend(fontsize=8)
+    ax.set_title("Restart: column collapse a = 2", fontsize=10)
+    ax = fig.add_subplot(1, 2, 2)
+    ax.scatter(a_points[:, 0], a_points[:, 1], s=6, color="0.6", label="uninterrupted")
+    ax.scatter(b_points[:, 0], b_points[:, 1], s=1, color="C3", label="restarted")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(f"final particles: max |Δx| = {position_diff:.1e} m", fontsize=10)
+    ax.legend(fontsize=8, markerscale=3)
+    save(fig, figures, "restart.png")
+    plt.close(fig)
+
+
+# ----------------------------------------------------------------------------------------------
 
 
 def main():
@@ -480,7 +744,8 @@ def main():
     figures = None if args.no_plots else args.figures
     os.makedirs(args.results, exist_ok=True)
     checks = Checks()
-    for verification in (column_self_weight, bar_vibration, column_collapse):
+    for verification in (column_self_weight, bar_vibration, lame_cylinder, column_collapse,
+                         strip_footing, inclined_plane, restart):
         try:
             verification(args.results, args.cases, figures, plt, checks)
         except Exception as e:  # a broken case must not hide the others
