@@ -299,6 +299,28 @@ TEST(MpmCheckpoint, ContinuesWithAnotherParameterSet) {
   fs::remove(file);
 }
 
+// Nothing to store besides the solver: empty datasets and groups read back as empty.
+TEST(MpmCheckpoint, EmptyRunInfoRoundTrips) {
+  const fs::path file = temp_file("empty-info.h5");
+  Solver solver = make_solver({});
+  run_steps(solver, 3);
+  MpmCheckpointInfo info;
+  info.case_source = "";
+  write_mpm_checkpoint(file, solver, info);
+  Solver fresh = make_solver({});
+  const MpmCheckpointInfo read = read_mpm_checkpoint(file, fresh);
+  EXPECT_TRUE(read.initial_position.empty());
+  EXPECT_TRUE(read.records.empty());
+  EXPECT_EQ(read.case_source, "");
+  EXPECT_EQ(read.next_phase, 0);
+  expect_same_bits(solver, fresh, "empty run info");
+  // An initial position per particle or none: anything else cannot be written.
+  info.initial_position.assign(3, Vec2::Zero());
+  EXPECT_THROW(write_mpm_checkpoint(file, solver, info), Error);
+  EXPECT_FALSE(fs::exists(file.string() + ".tmp"));
+  fs::remove(file);
+}
+
 // Reads `file` into `solver`, expecting an InputError naming the file and `what`; the solver is
 // left as it was.
 void expect_rejected(const fs::path& file, Solver& solver, const std::string& what) {

@@ -503,7 +503,12 @@ class Reader {
   Handle open_file() const {
     std::error_code ec;
     if (!fs::is_regular_file(file_, ec)) fail("", "", "no such checkpoint file");
-    if (H5Fis_hdf5(file_.c_str()) <= 0)
+#if H5_VERSION_GE(1, 12, 0)
+    const htri_t is_hdf5 = H5Fis_accessible(file_.c_str(), H5P_DEFAULT);
+#else
+    const htri_t is_hdf5 = H5Fis_hdf5(file_.c_str());
+#endif
+    if (is_hdf5 <= 0)
       fail("", "", "not an HDF5 file (a checkpoint written by pilempm is expected)");
     Handle file(H5Fopen(file_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose);
     if (!file.valid()) fail_hdf5("", "cannot open the HDF5 file (damaged?)");
@@ -635,7 +640,9 @@ class Reader {
     return value;
   }
 
-  const std::string& file() const { return file_; }
+  const std::string& file() const {
+    return file_;
+  }
   // How messages name attribute `name` of the object at `where` ("" for the root: the name).
   static std::string attribute_key(const std::string& where, const char* name) {
     return where.empty() ? std::string(name) : where + "@" + name;
@@ -804,10 +811,9 @@ MpmCheckpointInfo read_run_info(const Reader& r, hid_t root, std::size_t particl
     std::string content = r.text(records.get(), at, key);
     const Handle set(H5Dopen2(records.get(), key.c_str(), H5P_DEFAULT), H5Dclose);
     if (!set.valid()) r.fail_hdf5(at + "/" + key, "cannot open the dataset");
-    std::string name = r.string(set.get(), at + "/" + key, "name");
-    if (!info.records.emplace(std::move(name), std::move(content)).second)
-      r.fail(at + "/" + key + "@name", r.string(set.get(), at + "/" + key, "name"),
-             "is a second record of that name");
+    const std::string name = r.string(set.get(), at + "/" + key, "name");
+    if (!info.records.emplace(name, std::move(content)).second)
+      r.fail(at + "/" + key + "@name", name, "is a second record of that name");
   }
   return info;
 }
