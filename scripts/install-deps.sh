@@ -7,6 +7,7 @@ packages=(
   build-essential cmake
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev
   libgtest-dev googletest libbenchmark-dev
+  libhdf5-dev
   python3-matplotlib
 )
 

@@ -25,7 +25,13 @@ struct MpmCheckpointInfo {
   /// Output written so far, by name (for example "energies.csv", "bodies.csv", the PVD entries),
   /// so that a restarted run's files equal the uninterrupted run's.
   std::map<std::string, std::string> records;
+  /// Set by read_mpm_checkpoint: the thread count of the solver that wrote the file (ignored by
+  /// write). A restart with another count continues to round-off, not bitwise.
+  int threads = 0;
 };
+
+/// The version of the file layout that write_mpm_checkpoint writes and read_mpm_checkpoint reads.
+inline constexpr int kMpmCheckpointFormatVersion = 1;
 
 /// Writes `solver` and `info` to `file` (HDF5), atomically. Throws Error naming the file when
 /// it cannot be written.

@@ -115,6 +115,7 @@ Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
       field->assign(nodes, 0.0);
   }
 
+  update_dashpots();
   for (std::size_t p = 0; p < count; ++p) {
     const double speed = particles_.velocity[p].norm();
     energies_.kinetic += 0.5 * settings_.mass_scaling * particles_.mass[p] * speed * speed;
@@ -160,6 +161,7 @@ void Solver::set_settings(const SolverSettings& settings) {
                        fmt::format("{} (fixed when the solver is made)", settings_.threads));
   settings_ = settings;
   wave_speed_step_ = -1;
+  update_dashpots();
 }
 
 void Solver::set_material(int index, ModelPtr model) {
@@ -210,7 +212,8 @@ void Solver::restore_run_state(const SolverRunState& state) {
 }
 
 std::size_t Solver::bytes_per_particle() const {
-  return Particles::bytes_per_particle() + sizeof(Stencil) + sizeof(double);
+  return Particles::bytes_per_particle() + sizeof(Stencil) + sizeof(double) +
+         (settings_.volumetric_smoothing ? sizeof(SmoothedIncrement) : 0);
 }
 
 void Solver::fail_at_particle(std::size_t particle, const std::string& reason) const {
@@ -390,6 +393,7 @@ void Solver::update_grid(double dt) {
   const double* free_y = grid_.free_y().data();
   const long node_count = grid_.node_count();
   const double alpha = settings_.local_damping;
+  const bool absorbing = !settings_.absorbing_boundaries.empty();
   std::vector<ThreadAccount>& accounts = reset_thread_accounts();
 #pragma omp parallel num_threads(threads_)
   {
@@ -406,9 +410,19 @@ void Solver::update_grid(double dt) {
       // Local non-viscous damping (Cundall 1987): f_damped = f - α |f| sign(v), per component.
       const double damping_x = -alpha * std::abs(nodes.force_x[n]) * sign(vx);
       const double damping_y = -alpha * std::abs(nodes.force_y[n]) * sign(vy);
-      // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP.
-      const double new_vx = free_x[n] * (vx + (nodes.force_x[n] + damping_x) * dt / mass);
-      const double new_vy = free_y[n] * (vy + (nodes.force_y[n] + damping_y) * dt / mass);
+      // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP. A dashpot
+      // -C v^L (absorbing boundary) is taken implicitly: v^L = (m v + f dt) / (m + C dt).
+      double new_vx = vx + (nodes.force_x[n] + damping_x) * dt / mass;
+      double new_vy = vy + (nodes.force_y[n] + damping_y) * dt / mass;
+      if (absorbing) {
+        const double cx = dashpot_x_[n], cy = dashpot_y_[n];
+        if (cx > 0.0) new_vx *= mass / (mass + cx * dt);
+        if (cy > 0.0) new_vy *= mass / (mass + cy * dt);
+        // Work of the dashpot force -C v^L over the step, with the mean velocity.
+        account.sum[1] += 0.5 * dt * (cx * new_vx * (vx + new_vx) + cy * new_vy * (vy + new_vy));
+      }
+      new_vx *= free_x[n];
+      new_vy *= free_y[n];
       nodes.velocity_x[n] = new_vx;
       nodes.velocity_y[n] = new_vy;
       nodes.velocity_change_x[n] = new_vx - vx;
@@ -417,7 +431,49 @@ void Solver::update_grid(double dt) {
       account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
     }
   }
-  for (const ThreadAccount& account : accounts) energies_.damping += account.sum[0];
+  for (const ThreadAccount& account : accounts) {
+    energies_.damping += account.sum[0];
+    energies_.absorbed += account.sum[1];
+  }
+}
+
+void Solver::update_dashpots() {
+  const auto nodes = static_cast<std::size_t>(grid_.node_count());
+  dashpot_x_.assign(settings_.absorbing_boundaries.empty() ? 0 : nodes, 0.0);
+  dashpot_y_.assign(settings_.absorbing_boundaries.empty() ? 0 : nodes, 0.0);
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  const GridAxis& x_axis = grid_.x_axis();
+  const GridAxis& y_axis = grid_.y_axis();
+  // The share of a side's length that node k of an axis carries: half of each adjacent cell.
+  auto share = [](const GridAxis& axis, int k) {
+    double length = 0.0;
+    if (k > 0) length += 0.5 * axis.spacing(k - 1);
+    if (k < axis.cell_count()) length += 0.5 * axis.spacing(k);
+    return length;
+  };
+  for (const AbsorbingBoundary& boundary : settings_.absorbing_boundaries) {
+    const double normal = boundary.density * boundary.p_wave_speed;
+    const double tangential = boundary.density * boundary.s_wave_speed;
+    const bool vertical_side = boundary.side == Side::left || boundary.side == Side::right;
+    if (vertical_side) {
+      const int i = boundary.side == Side::left ? 0 : grid_.nx() - 1;
+      const double radius = axisymmetric ? x_axis.node(i) : 1.0;
+      for (int j = 0; j < grid_.ny(); ++j) {
+        const double area = share(y_axis, j) * radius;
+        dashpot_x_[static_cast<std::size_t>(grid_.node_index(i, j))] += normal * area;
+        dashpot_y_[static_cast<std::size_t>(grid_.node_index(i, j))] += tangential * area;
+      }
+    } else {
+      const int j = boundary.side == Side::bottom ? 0 : grid_.ny() - 1;
+      for (int i = 0; i < grid_.nx(); ++i) {
+        // Per radian in axisymmetry: the ring of radius r_i over the node's share of the side
+        // (exact for the integral of r over a linear hat would differ by O(h^2 / r)).
+        const double area = share(x_axis, i) * (axisymmetric ? x_axis.node(i) : 1.0);
+        dashpot_x_[static_cast<std::size_t>(grid_.node_index(i, j))] += tangential * area;
+        dashpot_y_[static_cast<std::size_t>(grid_.node_index(i, j))] += normal * area;
+      }
+    }
+  }
 }
 
 int Solver::add_rigid_body(RigidBody body) {
@@ -501,6 +557,8 @@ void Solver::apply_contact(double dt, bool forces) {
           const Vec2 on_body = -mass * change / dt;
           force.total += on_body;
           force.parts[static_cast<std::size_t>(surface.part)] += on_body;
+          // The work of the body on the soil: its force on the soil along its own velocity.
+          energies_.contact_work -= on_body.dot(body_velocity) * dt;
         }
       }
     }
@@ -591,6 +649,49 @@ void Solver::grid_to_particles(double dt) {
   if (failed != kNoParticle) fail_at_particle(failed, failure);
 }
 
+// Volumetric-locking remedy: within each grid cell, the volumetric strain increments of the
+// particles (by their position after the move) are replaced by their mean weighted by the
+// particle volumes, Δε̄_v = Σ V_p Δε_v,p / Σ V_p; the deviatoric parts are kept. The difference
+// goes equally to the in-plane normal components in plane strain (the out-of-plane strain stays
+// zero) and to the three normal components in axisymmetry. Σ V Δε_v over a cell is unchanged, so
+// the volume of the cell's particles changes as without smoothing. The sums per cell run
+// serially in particle order (deterministic for any thread count).
+template <class Kinematics>
+void Solver::smooth_volumetric_increments(Kinematics&& kinematics) {
+  const Particles& p = particles_;
+  const auto count = static_cast<long>(p.size());
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  const GridAxis& x_axis = grid_.x_axis();
+  const GridAxis& y_axis = grid_.y_axis();
+  const int cells_x = x_axis.cell_count();
+  smoothed_.resize(p.size());
+  cell_volume_.assign(static_cast<std::size_t>(cells_x * y_axis.cell_count()), 0.0);
+  cell_strain_.assign(cell_volume_.size(), 0.0);
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long i = 0; i < count; ++i) {
+    SmoothedIncrement& smoothed = smoothed_[i];
+    kinematics(i, smoothed.increment, smoothed.hoop_increment);
+    const Vec2& x = p.position[i];
+    smoothed.cell = y_axis.cell_of(x.y()) * cells_x + x_axis.cell_of(x.x());
+  }
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const SmoothedIncrement& smoothed = smoothed_[i];
+    const double volumetric = smoothed.increment.trace() + smoothed.hoop_increment;
+    cell_volume_[smoothed.cell] += p.volume[i];
+    cell_strain_[smoothed.cell] += p.volume[i] * volumetric;
+  }
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long i = 0; i < count; ++i) {
+    SmoothedIncrement& smoothed = smoothed_[i];
+    const double mean = cell_strain_[smoothed.cell] / cell_volume_[smoothed.cell];
+    const double difference = mean - (smoothed.increment.trace() + smoothed.hoop_increment);
+    const double share = difference / (axisymmetric ? 3.0 : 2.0);
+    smoothed.increment(0, 0) += share;
+    smoothed.increment(1, 1) += share;
+    if (axisymmetric) smoothed.hoop_increment += share;
+  }
+}
+
 void Solver::update_stress(double dt) {
   Particles& p = particles_;
   const NodalFields& nodes = grid_.nodes();
@@ -598,25 +699,39 @@ void Solver::update_stress(double dt) {
   const int nx = grid_.nx();
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
   const bool stretch_domains = settings_.shape_function == ShapeFunction::cpgimp;
+  const bool smoothing = settings_.volumetric_smoothing;
+  // Kinematics of particle i over the step: the in-plane increment L dt, with the velocity
+  // gradient L_ab = Σ v_ia dS_i/dx_b, and the hoop increment v_r dt / r (axisymmetry).
+  auto kinematics = [&](long i, Mat2& increment, double& hoop_increment) {
+    Mat2 velocity_gradient = Mat2::Zero();
+    double radial_velocity = 0.0;
+    for_each_node(stencils_[i], nx, [&](int n, double s, double ds_dx, double ds_dy) {
+      const double vx = nodes.velocity_x[n], vy = nodes.velocity_y[n];
+      velocity_gradient(0, 0) += vx * ds_dx;
+      velocity_gradient(0, 1) += vx * ds_dy;
+      velocity_gradient(1, 0) += vy * ds_dx;
+      velocity_gradient(1, 1) += vy * ds_dy;
+      radial_velocity += s * vx;
+    });
+    increment = dt * velocity_gradient;
+    hoop_increment = axisymmetric ? dt * radial_velocity / start_radius_[i] : 0.0;
+  };
+  if (smoothing) smooth_volumetric_increments(kinematics);
+
   std::vector<ThreadAccount>& accounts = reset_thread_accounts();
 #pragma omp parallel num_threads(threads_)
   {
     ThreadAccount& account = accounts[omp_get_thread_num()];
 #pragma omp for schedule(static)
     for (long i = 0; i < count; ++i) {
-      // Velocity gradient L_ab = Σ v_ia dS_i/dx_b, and the radial velocity at the particle.
-      Mat2 velocity_gradient = Mat2::Zero();
-      double radial_velocity = 0.0;
-      for_each_node(stencils_[i], nx, [&](int n, double s, double ds_dx, double ds_dy) {
-        const double vx = nodes.velocity_x[n], vy = nodes.velocity_y[n];
-        velocity_gradient(0, 0) += vx * ds_dx;
-        velocity_gradient(0, 1) += vx * ds_dy;
-        velocity_gradient(1, 0) += vy * ds_dx;
-        velocity_gradient(1, 1) += vy * ds_dy;
-        radial_velocity += s * vx;
-      });
-      const Mat2 increment = dt * velocity_gradient;
-      const double hoop_increment = axisymmetric ? dt * radial_velocity / start_radius_[i] : 0.0;
+      Mat2 increment;
+      double hoop_increment;
+      if (smoothing) {
+        increment = smoothed_[i].increment;
+        hoop_increment = smoothed_[i].hoop_increment;
+      } else {
+        kinematics(i, increment, hoop_increment);
+      }
       Vec6 strain_increment;
       strain_increment << increment(0, 0), increment(1, 1), hoop_increment, 0.0, 0.0,
           kSqrt2 * 0.5 * (increment(0, 1) + increment(1, 0));

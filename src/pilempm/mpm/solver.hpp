@@ -94,8 +94,9 @@ struct Energies {
   double internal = 0.0;       ///< strain work Σ V σ:Δε, accumulated
   double external_work = 0.0;  ///< work of gravity and particle loads, accumulated
   double damping = 0.0;        ///< dissipated by local damping, accumulated
-  /// Work of the rigid bodies on the soil (what the contact corrections add to the nodal kinetic
-  /// energy), accumulated; part of the external work in the balance.
+  /// Work of the rigid bodies on the soil, -Σ F_body . v_body Δt, accumulated. The kinetic energy
+  /// lost when soil nodes are brought to the body's velocity (impacts) and by frictional slip is
+  /// not in the account, so the balance closes up to these losses.
   double contact_work = 0.0;
   double absorbed = 0.0;  ///< dissipated by absorbing boundaries, accumulated
 };
@@ -180,7 +181,8 @@ class Solver {
   /// InvalidValue when the rigid-body forces do not fit the bodies.
   void restore_run_state(const SolverRunState& state);
 
-  /// Particle data plus the solver's per-particle scratch [bytes].
+  /// Particle data plus the solver's per-particle scratch [bytes] (with volumetric smoothing
+  /// on, its scratch too).
   std::size_t bytes_per_particle() const;
 
  private:
@@ -190,6 +192,8 @@ class Solver {
   void update_grid(double dt);
   void grid_to_particles(double dt);
   void update_stress(double dt);
+  template <class Kinematics>
+  void smooth_volumetric_increments(Kinematics&& kinematics);
   // Rigid-body contact on the nodal velocities; with `forces`, also the velocity change for FLIP
   // and the contact forces of the step.
   void apply_contact(double dt, bool forces);
@@ -206,6 +210,8 @@ class Solver {
   void scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_particle,
                        FinishNode&& finish_node);
   void check_particles() const;
+  // The dashpot coefficients C [kg/s] per node from the absorbing boundaries of the settings.
+  void update_dashpots();
   [[noreturn]] void fail_at_particle(std::size_t particle, const std::string& reason) const;
 
   Grid grid_;
@@ -249,6 +255,18 @@ class Solver {
 
   std::vector<RigidBody> rigid_bodies_;
   std::vector<RigidBodyForce> rigid_body_forces_;
+
+  // Volumetric smoothing scratch: per particle its increments and cell, per cell the sums.
+  struct SmoothedIncrement {
+    Mat2 increment;
+    double hoop_increment;
+    int cell;
+  };
+  std::vector<SmoothedIncrement> smoothed_;
+  std::vector<double> cell_volume_, cell_strain_;
+
+  // Dashpot coefficients per node and direction (empty without absorbing boundaries).
+  std::vector<double> dashpot_x_, dashpot_y_;
 };
 
 }  // namespace pilempm::mpm
