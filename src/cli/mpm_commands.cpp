@@ -1,6 +1,7 @@
 // `pilempm mpm ...`: material point method runs. `run` reads a case file
 // (docs/mpm-case-files.md), checks all of it before the first step, runs its phases and writes
-// the particle snapshots (VTU + PVD) and the energy account (CSV) into the output folder.
+// the particle snapshots (VTU + PVD), the energy account and the rigid bodies' motion and forces
+// (CSV) into the output folder, and how each phase ended.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
@@ -27,16 +28,21 @@ void run_mpm(const MpmRunFlags& flags) {
   const MpmCase c = read_mpm_case(flags.case_file);
   double total = 0.0;
   for (const MpmPhase& phase : c.phases) total += phase.duration;
-  fmt::print("{}: {} region{}, {} phase{}, {:.6g} s simulated -> {}/\n", c.source, c.regions.size(),
-             c.regions.size() == 1 ? "" : "s", c.phases.size(), c.phases.size() == 1 ? "" : "s",
+  fmt::print("{}: {} region{}, {} bod{}, {} phase{}, at most {:.6g} s simulated -> {}/\n", c.source,
+             c.regions.size(), c.regions.size() == 1 ? "" : "s", c.bodies.size(),
+             c.bodies.size() == 1 ? "y" : "ies", c.phases.size(), c.phases.size() == 1 ? "" : "s",
              total, flags.out);
   std::fflush(stdout);
   const MpmRunSummary summary = run_mpm_case(c, flags.out, flags.quiet ? nullptr : &std::cerr);
+  for (const MpmPhaseEnd& end : summary.phase_ends)
+    fmt::print("phase {}: ended at t = {:.6g} s, step {}: {}\n", end.phase, end.time, end.steps,
+               end.reason);
   fmt::print(
       "done: {} steps to t = {:.6g} s in {:.2f} s wall; {} snapshots in {}, energies in "
-      "{}\n",
+      "{}{}\n",
       summary.steps, summary.time, summary.wall_seconds, summary.vtu_files.size(),
-      summary.pvd_file.string(), summary.energies_file.string());
+      summary.pvd_file.string(), summary.energies_file.string(),
+      summary.bodies_file.empty() ? std::string() : ", bodies in " + summary.bodies_file.string());
 }
 
 }  // namespace
@@ -48,7 +54,7 @@ void register_mpm_commands(CLI::App& app) {
   CLI::App* run =
       mpm->add_subcommand("run",
                           "run an MPM case file (docs/mpm-case-files.md); writes particles_*.vtu, "
-                          "particles.pvd (open in ParaView) and energies.csv");
+                          "particles.pvd (open in ParaView), energies.csv and bodies.csv");
   run->add_option("case", flags->case_file, "the case file (TOML)")
       ->required()
       ->type_name("CASE.toml");

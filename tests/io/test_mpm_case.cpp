@@ -3,11 +3,13 @@
 #include <gtest/gtest.h>
 
 #include <unistd.h>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
@@ -280,6 +282,334 @@ TEST(MpmCase, RegionOutsideTheGridIsAnError) {
   const std::string message = e.what();
   EXPECT_NE(message.find("region[0].y_max_m = 1.5"), std::string::npos) << message;
   EXPECT_NE(message.find("(-1, 1]"), std::string::npos) << message;
+}
+
+// A pile case: rigid body, phase motions, stop rules, material changes, tractions, absorbing
+// boundaries and volumetric smoothing.
+const char* const kPileCase = R"([geometry]
+kind = "axisymmetric"
+[grid.x]
+spacing = "uniform"
+min_m = 0.0
+max_m = 0.4
+cells = 8
+[grid.y]
+spacing = "uniform"
+min_m = 0.0
+max_m = 0.6
+cells = 12
+[boundaries]
+right = { kind = "absorbing", density_kg_per_m3 = 1600.0, p_wave_speed_m_per_s = 300.0, s_wave_speed_m_per_s = 150.0 }
+bottom = "fixed"
+[solver]
+volumetric_smoothing = true
+threads = 1
+[[material]]
+name = "sand"
+model = "mohr-coulomb"
+young_modulus_MPa = 20.0
+poisson_ratio = 0.3
+cohesion_kPa = 0.0
+friction_angle_deg = 30.0
+dilatancy_angle_deg = 0.0
+[[material]]
+name = "soft-sand"
+model = "mohr-coulomb"
+young_modulus_MPa = 10.0
+poisson_ratio = 0.3
+cohesion_kPa = 0.0
+friction_angle_deg = 28.0
+dilatancy_angle_deg = 0.0
+[[material]]
+name = "elastic"
+model = "linear-elastic"
+young_modulus_MPa = 10.0
+poisson_ratio = 0.3
+[[region]]
+name = "ground"
+x_min_m = 0.0
+x_max_m = 0.4
+y_min_m = 0.0
+y_max_m = 0.5
+particles_per_cell = 2
+density_kg_per_m3 = 1600.0
+material = "sand"
+initial_stress = "geostatic"
+[[body]]
+name = "pile"
+kind = "pile"
+radius_m = 0.01
+tip_y_m = 0.4
+tip = "conical"
+interface_friction_angle_deg = 20.0
+contact_distance_m = 0.01
+[[traction]]
+region = "ground"
+side = "top"
+normal_kPa = 10.0
+shear_kPa = 1.0
+[[phase]]
+name = "geostatic"
+kind = "geostatic"
+duration_s = 0.1
+local_damping = 0.5
+traction_multiplier = 0.5
+[[phase]]
+name = "install"
+duration_s = 2.0
+stop_displacement_y_m = -0.05
+checkpoint = false
+[phase.body.pile]
+velocity_y_m_per_s = -0.1
+ramp_s = 0.01
+[phase.materials]
+sand = "soft-sand"
+[[phase]]
+name = "relax"
+duration_s = 1.0
+stop_force_y_below_N = 0.0
+stop_phase_displacement_y_m = 0.01
+[phase.body.pile]
+velocity_y_m_per_s = 0.01
+)";
+
+std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
+  std::string out = text;
+  const auto at = out.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) out.replace(at, from.size(), to);
+  return out;
+}
+
+// The 1-based line of the first occurrence of `needle` in `text`.
+long line_of(const std::string& text, const std::string& needle) {
+  const auto at = text.find(needle);
+  EXPECT_NE(at, std::string::npos) << needle;
+  return 1 +
+         static_cast<long>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
+}
+
+// Expects an InputError at `needle`'s line whose message holds each of `parts`.
+void expect_error(const std::string& text, const std::string& needle,
+                  const std::vector<std::string>& parts) {
+  const InputError e = error_of(text);
+  EXPECT_EQ(e.file(), "case.toml");
+  EXPECT_EQ(e.line(), line_of(text, needle)) << e.what();
+  const std::string message = e.what();
+  EXPECT_NE(message.find("case.toml:" + std::to_string(e.line())), std::string::npos) << message;
+  for (const std::string& part : parts)
+    EXPECT_NE(message.find(part), std::string::npos) << "'" << part << "' in: " << message;
+}
+
+TEST(MpmCase, PileCaseReadsBodiesMotionsStopRulesMaterialsAndLoads) {
+  const MpmCase c = read_mpm_case_text(kPileCase, "case.toml");
+  ASSERT_EQ(c.bodies.size(), 1u);
+  const MpmBody& b = c.bodies[0];
+  EXPECT_EQ(b.name, "pile");
+  EXPECT_EQ(b.kind, MpmBodyKind::pile);
+  EXPECT_DOUBLE_EQ(b.radius, 0.01);
+  EXPECT_DOUBLE_EQ(b.tip_y, 0.4);
+  EXPECT_NEAR(b.apex_angle, kPi / 3.0, 1e-15);  // 60° by default
+  EXPECT_NEAR(b.friction, std::tan(20.0 * kPi / 180.0), 1e-15);
+  EXPECT_DOUBLE_EQ(b.contact_distance, 0.01);
+
+  ASSERT_EQ(c.solver.absorbing_boundaries.size(), 1u);
+  const mpm::AbsorbingBoundary& a = c.solver.absorbing_boundaries[0];
+  EXPECT_EQ(a.side, mpm::Side::right);
+  EXPECT_DOUBLE_EQ(a.density, 1600.0);
+  EXPECT_DOUBLE_EQ(a.p_wave_speed, 300.0);
+  EXPECT_DOUBLE_EQ(a.s_wave_speed, 150.0);
+  EXPECT_EQ(c.boundaries[static_cast<int>(mpm::Side::right)], mpm::BoundaryCondition::free);
+  EXPECT_TRUE(c.solver.volumetric_smoothing);
+  EXPECT_TRUE(phase_settings(c, c.phases[1]).volumetric_smoothing);
+
+  ASSERT_EQ(c.tractions.size(), 1u);
+  EXPECT_EQ(c.tractions[0].region, 0);
+  EXPECT_EQ(c.tractions[0].side, mpm::Side::top);
+  EXPECT_DOUBLE_EQ(c.tractions[0].normal, 10.0e3);
+  EXPECT_DOUBLE_EQ(c.tractions[0].shear, 1.0e3);
+
+  ASSERT_EQ(c.phases.size(), 3u);
+  const MpmPhase& geostatic = c.phases[0];
+  EXPECT_EQ(geostatic.kind, MpmPhaseKind::geostatic);
+  EXPECT_DOUBLE_EQ(geostatic.traction_multiplier, 0.5);
+  EXPECT_TRUE(geostatic.checkpoint);
+  ASSERT_EQ(geostatic.body_motion.size(), 1u);
+  EXPECT_EQ(geostatic.body_motion[0].velocity, mpm::Vec2::Zero());  // held still
+  EXPECT_TRUE(geostatic.stop_rules.empty());
+  EXPECT_EQ(geostatic.stop_body, -1);
+
+  const MpmPhase& install = c.phases[1];
+  EXPECT_EQ(install.kind, MpmPhaseKind::standard);
+  EXPECT_FALSE(install.checkpoint);
+  EXPECT_DOUBLE_EQ(install.traction_multiplier, 1.0);
+  EXPECT_DOUBLE_EQ(install.body_motion[0].velocity.y(), -0.1);
+  EXPECT_DOUBLE_EQ(install.body_motion[0].ramp, 0.01);
+  EXPECT_EQ(install.stop_body, 0);  // the only body
+  ASSERT_EQ(install.stop_rules.size(), 1u);
+  EXPECT_EQ(install.stop_rules[0].key, "stop_displacement_y_m");
+  EXPECT_EQ(install.stop_rules[0].quantity, MpmStopQuantity::displacement);
+  EXPECT_EQ(install.stop_rules[0].component, 1);
+  EXPECT_DOUBLE_EQ(install.stop_rules[0].value, -0.05);
+  ASSERT_EQ(install.material_changes.size(), 1u);
+  EXPECT_EQ(install.material_changes[0].model, 0);
+  EXPECT_EQ(install.material_changes[0].material, "soft-sand");
+  ASSERT_NE(install.material_changes[0].replacement, nullptr);
+
+  const MpmPhase& relax = c.phases[2];
+  ASSERT_EQ(relax.stop_rules.size(), 2u);
+  EXPECT_EQ(relax.stop_rules[0].quantity, MpmStopQuantity::phase_displacement);
+  EXPECT_DOUBLE_EQ(relax.stop_rules[0].value, 0.01);
+  EXPECT_EQ(relax.stop_rules[1].quantity, MpmStopQuantity::force_below);
+  EXPECT_DOUBLE_EQ(relax.stop_rules[1].value, 0.0);
+  EXPECT_TRUE(relax.material_changes.empty());
+
+  // The solver gets the pile, at rest where the case puts it.
+  mpm::Solver solver = make_mpm_solver(c);
+  ASSERT_EQ(solver.rigid_body_count(), 1);
+  EXPECT_NEAR(solver.rigid_body(0).signed_distance({0.0, 0.5}), -0.01, 1e-12);  // in the shaft
+  EXPECT_NEAR(solver.rigid_body(0).signed_distance({0.0, 0.3}), 0.1, 1e-12);    // below the tip
+  EXPECT_NEAR(solver.rigid_body(0).friction(), b.friction, 1e-15);
+  EXPECT_EQ(solver.rigid_body(0).part_names().at(0), "tip");
+}
+
+TEST(MpmCase, BodyKeysAreCheckedWithLineKeyValueAndRange) {
+  const std::string pile = kPileCase;
+  expect_error(
+      replaced(pile, "interface_friction_angle_deg = 20.0", "interface_friction_angle_deg = 90.0"),
+      "interface_friction_angle_deg", {"body[0].interface_friction_angle_deg = 90:", "[0, 90)"});
+  expect_error(replaced(pile, "tip = \"conical\"", "tip = \"round\""),
+               "tip = ", {"body[0].tip = \"round\"", "conical", "flat"});
+  expect_error(replaced(pile, "tip = \"conical\"", "tip = \"conical\"\napex_angle_deg = 180"),
+               "apex_angle_deg", {"body[0].apex_angle_deg = 180", "(0, 180)"});
+  expect_error(replaced(pile, "tip = \"conical\"", "tip = \"flat\"\napex_angle_deg = 90"),
+               "apex_angle_deg", {"apex_angle_deg", "flat tip"});
+  expect_error(replaced(pile, "radius_m = 0.01", "radius_m = 0.0"), "radius_m",
+               {"body[0].radius_m = 0:", "> 0"});
+  expect_error(replaced(pile, "contact_distance_m = 0.01", "contact_distanc_m = 0.01"),
+               "contact_distanc_m", {"contact_distance_m"});
+  expect_error(replaced(pile, "kind = \"pile\"", "kind = \"polygon\""), "kind = \"polygon\"",
+               {"body[0].kind", "axisymmetry"});
+  const std::string second_body =
+      "[[body]]\nname = \"pile\"  # again\nkind = \"pile\"\nradius_m = 0.02\ntip_y_m = 0.4\n"
+      "tip = \"flat\"\ninterface_friction_angle_deg = 20.0\n[[traction]]";
+  expect_error(replaced(pile, "[[traction]]", second_body), "# again",
+               {"body[1].name = \"pile\"", "distinct"});
+
+  // Polygons belong to plane strain, with at least three convex corners.
+  const std::string plane =
+      replaced(replaced(kPileCase, "kind = \"axisymmetric\"", "kind = \"plane-strain\""),
+               "kind = \"pile\"\nradius_m = 0.01\ntip_y_m = 0.4\ntip = \"conical\"",
+               "kind = \"polygon\"\nvertices_m = [[0.0, 0.5], [0.1, 0.5], [0.1, 0.6]]");
+  const std::string polygon_case = replaced(plane, "[phase.body.pile]\nvelocity_y_m_per_s = -0.1",
+                                            "[phase.body.pile]\nvelocity_x_m_per_s = 0.1");
+  const MpmCase c = read_mpm_case_text(polygon_case, "case.toml");
+  ASSERT_EQ(c.bodies.at(0).vertices.size(), 3u);
+  EXPECT_DOUBLE_EQ(c.bodies[0].vertices[2].y(), 0.6);
+  EXPECT_DOUBLE_EQ(c.phases[1].body_motion[0].velocity.x(), 0.1);  // a polygon may move sideways
+  expect_error(replaced(plane, "[[0.0, 0.5], [0.1, 0.5], [0.1, 0.6]]", "[[0.0, 0.5], [0.1, 0.5]]"),
+               "vertices_m", {"body[0].vertices_m", "at least three"});
+  expect_error(replaced(plane, "[[0.0, 0.5], [0.1, 0.5], [0.1, 0.6]]",
+                        "[[0.0, 0.5], [0.1, 0.5], [0.1, \"a\"]]"),
+               "vertices_m", {"body[0].vertices_m", "finite numbers"});
+  expect_error(replaced(plane, "[[0.0, 0.5], [0.1, 0.5], [0.1, 0.6]]",
+                        "[[0.0, 0.0], [0.2, 0.0], [0.1, 0.05], [0.2, 0.2], [0.0, 0.2]]"),
+               "vertices_m", {"body[0].vertices_m", "not a valid body"});
+  expect_error(replaced(plane, "kind = \"polygon\"", "kind = \"pile\""), "kind = \"pile\"",
+               {"body[0].kind", "plane strain"});
+}
+
+TEST(MpmCase, PhaseKeysAreCheckedWithLineKeyValueAndRange) {
+  const std::string pile = kPileCase;
+  expect_error(replaced(pile, "[phase.body.pile]\nvelocity_y_m_per_s = -0.1",
+                        "[phase.body.pile]\nvelocity_y_m_per_s = -0.1\n[phase.body.pipe]\n"
+                        "velocity_y_m_per_s = -0.1"),
+               "[phase.body.pipe]", {"phase[1].body.pipe", "unknown body", "\"pile\""});
+  expect_error(replaced(pile, "velocity_y_m_per_s = -0.1", "velocity_x_m_per_s = -0.1"),
+               "velocity_x_m_per_s", {"phase[1].body.pile.velocity_x_m_per_s", "axis"});
+  expect_error(replaced(pile, "ramp_s = 0.01", "ramp_s = -0.01"), "ramp_s",
+               {"phase[1].body.pile.ramp_s = -0.01", ">= 0"});
+  expect_error(replaced(pile, "ramp_s = 0.01", "ramp = 0.01"), "ramp = ", {"ramp_s"});
+  expect_error(replaced(pile, "stop_displacement_y_m = -0.05", "stop_displacement_x_m = -0.05"),
+               "stop_displacement_x_m", {"phase[1].stop_displacement_x_m", "pile"});
+  expect_error(replaced(pile, "stop_displacement_y_m = -0.05",
+                        "stop_displacement_y_m = -0.05\nstop_body = \"pipe\""),
+               "stop_body", {"phase[1].stop_body = \"pipe\"", "unknown body"});
+  expect_error(
+      replaced(pile, "stop_phase_displacement_y_m = 0.01", "stop_phase_displacement_y_m = 0.0"),
+      "stop_phase_displacement_y_m", {"phase[2].stop_phase_displacement_y_m = 0:", "non-zero"});
+  expect_error(replaced(pile, "stop_force_y_below_N = 0.0", "stop_force_y_below_N = \"zero\""),
+               "stop_force_y_below_N", {"phase[2].stop_force_y_below_N", "a number"});
+  expect_error(replaced(pile, "stop_force_y_below_N = 0.0", "stop_force_y_under_N = 0.0"),
+               "stop_force_y_under_N", {"stop_force_y_under_N", "unknown"});
+  expect_error(replaced(pile, "traction_multiplier = 0.5", "traction_multiplier = \"half\""),
+               "traction_multiplier", {"phase[0].traction_multiplier"});
+  expect_error(replaced(pile, "checkpoint = false", "checkpoint = 0"), "checkpoint = 0",
+               {"phase[1].checkpoint"});
+  expect_error(replaced(pile, "kind = \"geostatic\"", "kind = \"static\""), "\"static\"",
+               {"phase[0].kind = \"static\"", "standard", "geostatic"});
+  expect_error(replaced(pile, "initial_stress = \"geostatic\"", "initial_stress = \"zero\""),
+               "kind = \"geostatic\"", {"phase[0].kind", "initial_stress"});
+
+  // Without bodies, no stop rule and no body motion.
+  const auto no_body_start = pile.find("[[body]]");
+  const auto no_body_end = pile.find("[[traction]]");
+  std::string no_body = pile;
+  no_body.erase(no_body_start, no_body_end - no_body_start);
+  expect_error(
+      replaced(no_body, "[phase.body.pile]\nvelocity_y_m_per_s = -0.1\nramp_s = 0.01\n", ""),
+      "stop_displacement_y_m", {"phase[1].stop_displacement_y_m", "[[body]]"});
+
+  // Material changes: a role the regions use, a known set of the same kind.
+  expect_error(replaced(pile, "sand = \"soft-sand\"", "clay = \"soft-sand\""),
+               "clay =", {"phase[1].materials.clay", "unknown", "\"sand\""});
+  expect_error(replaced(pile, "sand = \"soft-sand\"", "sand = \"softer-sand\""), "sand = \"softer",
+               {"phase[1].materials.sand = \"softer-sand\"", "unknown", "soft-sand"});
+  expect_error(replaced(pile, "sand = \"soft-sand\"", "sand = \"elastic\""), "sand = \"elastic\"",
+               {"phase[1].materials.sand = \"elastic\"", "mohr-coulomb"});
+}
+
+TEST(MpmCase, LoadAndBoundaryKeysAreCheckedWithLineKeyValueAndRange) {
+  const std::string pile = kPileCase;
+  expect_error(replaced(pile, "region = \"ground\"", "region = \"earth\""), "region = \"earth\"",
+               {"traction[0].region = \"earth\"", "\"ground\""});
+  expect_error(replaced(pile, "side = \"top\"", "side = \"up\""), "side = \"up\"",
+               {"traction[0].side = \"up\"", "left", "top"});
+  expect_error(replaced(pile, "normal_kPa = 10.0", "normal_kPa = \"ten\""), "normal_kPa",
+               {"traction[0].normal_kPa", "a number"});
+  expect_error(replaced(pile, "normal_kPa = 10.0", "normal_kPa = 10.0\npressure_kPa = 10.0"),
+               "pressure_kPa", {"traction[0].pressure_kPa", "unknown"});
+  expect_error(
+      replaced(pile, "density_kg_per_m3 = 1600.0, p_wave", "density_kg_per_m3 = -1.0, p_wave"),
+      "right = {", {"boundaries.right.density_kg_per_m3 = -1:", "> 0"});
+  expect_error(replaced(pile, "s_wave_speed_m_per_s = 150.0", "s_speed_m_per_s = 150.0"),
+               "right = {", {"s_wave_speed_m_per_s"});
+  expect_error(replaced(pile, "kind = \"absorbing\"", "kind = \"viscous\""), "right = {",
+               {"boundaries.right.kind = \"viscous\"", "absorbing"});
+  expect_error(replaced(pile, "bottom = \"fixed\"", "bottom = \"absorbing\""),
+               "bottom =", {"boundaries.bottom = \"absorbing\"", "roller"});
+  expect_error(replaced(pile, "volumetric_smoothing = true", "volumetric_smoothing = 1"),
+               "volumetric_smoothing", {"solver.volumetric_smoothing"});
+}
+
+TEST(MpmCase, GeostaticStateIsResetUnderTheGivenGravity) {
+  const MpmCase c = read_mpm_case_text(kPileCase, "case.toml");
+  mpm::Solver solver = make_mpm_solver(c);
+  mpm::Particles& particles = solver.particles();
+  ASSERT_GT(particles.size(), 0u);
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    particles.state[p].stress = Vec6::Zero();
+    particles.velocity[p] = {0.1, 0.2};
+  }
+  set_geostatic_state(c, solver, 3.0 * 9.81);
+  const double K0 = 0.5;  // 1 - sin 30°
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const double vertical = 1600.0 * 3.0 * 9.81 * (0.5 - particles.position[p].y());
+    EXPECT_NEAR(particles.state[p].stress[k22], -vertical, 1e-9 * vertical);
+    EXPECT_NEAR(particles.state[p].stress[k11], -K0 * vertical, 1e-9 * vertical);
+    EXPECT_NEAR(particles.state[p].stress[k33], -K0 * vertical, 1e-9 * vertical);
+    EXPECT_EQ(particles.velocity[p], mpm::Vec2::Zero());
+  }
 }
 
 }  // namespace
