@@ -15,6 +15,8 @@
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
+#include "pilempm/io/mpm_phase_control.hpp"
+#include "pilempm/io/mpm_tractions.hpp"
 
 namespace pilempm {
 namespace {
@@ -610,6 +612,112 @@ TEST(MpmCase, GeostaticStateIsResetUnderTheGivenGravity) {
     EXPECT_NEAR(particles.state[p].stress[k33], -K0 * vertical, 1e-9 * vertical);
     EXPECT_EQ(particles.velocity[p], mpm::Vec2::Zero());
   }
+}
+
+// A column under self-weight and a surcharge on its top, started by a geostatic phase; a second
+// phase switches to a stiffer set.
+const char* const kSurchargeCase = R"([geometry]
+kind = "plane-strain"
+[grid.x]
+spacing = "uniform"
+min_m = 0.0
+max_m = 0.5
+cells = 5
+[grid.y]
+spacing = "uniform"
+min_m = 0.0
+max_m = 1.2
+cells = 12
+[boundaries]
+left = "roller"
+right = "roller"
+bottom = "fixed"
+[solver]
+threads = 1
+[[material]]
+name = "soft"
+model = "linear-elastic"
+young_modulus_MPa = 20.0
+poisson_ratio = 0.3
+[[material]]
+name = "stiff"
+model = "linear-elastic"
+young_modulus_MPa = 40.0
+poisson_ratio = 0.3
+[[region]]
+name = "column"
+x_min_m = 0.0
+x_max_m = 0.5
+y_min_m = 0.0
+y_max_m = 1.0
+particles_per_cell = 2
+density_kg_per_m3 = 2000.0
+material = "soft"
+initial_stress = "geostatic"
+[[traction]]
+region = "column"
+side = "top"
+normal_kPa = 10.0
+[[phase]]
+name = "settle"
+kind = "geostatic"
+duration_s = 0.5
+local_damping = 0.7
+gravity_multiplier = 2.0
+traction_multiplier = 2.0
+[[phase]]
+name = "stiffer"
+duration_s = 0.01
+[phase.materials]
+soft = "stiff"
+)";
+
+TEST(MpmCase, PhaseStartSetsTractionsGeostaticStressAndMaterials) {
+  const MpmCase c = read_mpm_case_text(kSurchargeCase, "case.toml");
+  mpm::Solver solver = make_mpm_solver(c);
+  const std::vector<mpm::Vec2> forces = mpm_traction_forces(c, solver.particles());
+  mpm::Vec2 total = mpm::Vec2::Zero();
+  for (const mpm::Vec2& f : forces) total += f;
+  EXPECT_NEAR(total.y(), -10e3 * 0.5, 1e-6);  // 10 kPa on 0.5 m
+
+  // The geostatic phase: stress from N = 2 (also at t = 0: the first phase's N), loads × 2.
+  for (mpm::Vec2& v : solver.particles().velocity) v = {0.0, -1.0};
+  solver.set_settings(phase_settings(c, c.phases[0]));
+  MpmPhaseControl settle(c, 0, solver);
+  settle.start(forces);
+  const double K0 = 0.3 / 0.7;
+  const mpm::Particles& particles = solver.particles();
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    EXPECT_EQ(particles.external_force[p], 2.0 * forces[p]);
+    EXPECT_EQ(particles.velocity[p], mpm::Vec2::Zero());
+    const double vertical = 2000.0 * 2.0 * 9.81 * (1.0 - particles.position[p].y());
+    EXPECT_NEAR(particles.state[p].stress[k22], -vertical, 1e-9 * vertical);
+    EXPECT_NEAR(particles.state[p].stress[k11], -K0 * vertical, 1e-9 * vertical);
+  }
+  solver.run_until(settle.end_time());
+  // At rest under weight and surcharge: σ_yy = N ρ g (H - y) + 2 × 10 kPa below the top cell
+  // (the cell of the loaded particles carries part of the load only: point loads at the
+  // particles, not at the surface).
+  int checked = 0;
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    if (particles.position[p].y() > 0.9) continue;
+    ++checked;
+    const double expected = 2000.0 * 2.0 * 9.81 * (1.0 - particles.position[p].y()) + 20e3;
+    EXPECT_NEAR(-particles.state[p].stress[k22], expected, 0.03 * expected) << p;
+  }
+  EXPECT_EQ(checked, 180);
+
+  // The next phase: the stiffer set, the stresses kept.
+  const Vec6 before = particles.state[0].stress;
+  const ConstitutiveModel* soft = solver.materials()[0].get();
+  solver.set_settings(phase_settings(c, c.phases[1]));
+  MpmPhaseControl stiffer(c, 1, solver);
+  stiffer.start(forces);
+  EXPECT_NE(solver.materials()[0].get(), soft);
+  EXPECT_EQ(solver.materials()[0], c.phases[1].material_changes.at(0).replacement);
+  EXPECT_EQ(particles.state[0].stress, before);
+  EXPECT_EQ(particles.external_force[0], forces[0]);  // multiplier 1
+  EXPECT_EQ(stiffer.stop_reason(), "");
 }
 
 }  // namespace
