@@ -720,5 +720,48 @@ TEST(MpmCase, PhaseStartSetsTractionsGeostaticStressAndMaterials) {
   EXPECT_EQ(stiffer.stop_reason(), "");
 }
 
+TEST(MpmCase, PileRowsOfBodiesCsvAreFullBodyForces) {
+  // A pile of one cell's radius, its tip 0.1 m deep, in ground at rest (no surcharge).
+  std::string text = replaced(kPileCase, "radius_m = 0.01", "radius_m = 0.05");
+  text = replaced(text, "contact_distance_m = 0.01", "contact_distance_m = 0.025");
+  text = replaced(text, "normal_kPa = 10.0\nshear_kPa = 1.0", "normal_kPa = 0.0");
+  const MpmCase c = read_mpm_case_text(text, "case.toml");
+  mpm::Solver solver = make_mpm_solver(c);
+  solver.set_settings(phase_settings(c, c.phases[1]));
+  MpmPhaseControl install(c, 1, solver);
+  install.start(mpm_traction_forces(c, solver.particles()));
+  for (int i = 0; i < 30; ++i) {
+    const MpmStepPlan plan = install.plan_step(install.end_time());
+    ASSERT_TRUE(plan.own_step);
+    solver.step();
+  }
+  // The ramp: the velocity at the middle of the last step, at most the phase's.
+  EXPECT_LT(solver.rigid_body(0).velocity().y(), 0.0);
+  EXPECT_GE(solver.rigid_body(0).velocity().y(), -0.1);
+  EXPECT_EQ(install.stop_reason(), "");
+
+  const std::string header = mpm_bodies_header(solver);
+  EXPECT_NE(header.find("N of the full body"), std::string::npos) << header;
+  EXPECT_NE(header.find("force_y_N,force_y_tip_N,force_y_shaft_N,force_y_head_N\n"),
+            std::string::npos)
+      << header;
+  const std::string row = mpm_bodies_rows(solver, {"pile"}, "install");
+  std::vector<std::string> fields;
+  std::string field;
+  std::istringstream cells(row.substr(0, row.size() - 1));
+  while (std::getline(cells, field, ',')) fields.push_back(field);
+  ASSERT_EQ(fields.size(), 13u) << row;
+  EXPECT_EQ(fields[2], "install");
+  EXPECT_EQ(fields[3], "pile");
+  const mpm::RigidBodyForce& force = solver.rigid_body_force(0);
+  EXPECT_GT(force.total.y(), 0.0);       // the ground pushes back
+  EXPECT_EQ(std::stod(fields[8]), 0.0);  // the radial forces cancel around the axis
+  EXPECT_NEAR(std::stod(fields[9]), 2.0 * kPi * force.total.y(), 1e-8 * force.total.y());
+  EXPECT_NEAR(std::stod(fields[10]), 2.0 * kPi * force.parts.at(0).y(), 1e-6 * force.total.y());
+  EXPECT_NEAR(std::stod(fields[10]) + std::stod(fields[11]) + std::stod(fields[12]),
+              std::stod(fields[9]), 1e-6 * std::stod(fields[9]));
+  EXPECT_NEAR(std::stod(fields[5]), solver.rigid_body(0).displacement().y(), 1e-12);
+}
+
 }  // namespace
 }  // namespace pilempm
