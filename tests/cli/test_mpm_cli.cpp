@@ -278,6 +278,16 @@ TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
   EXPECT_GT(lift_displacement, -0.01);         // it went back up
   EXPECT_GT(max_force, 1000.0);
 
+  // A checkpoint at each phase end, and --restart takes one (a missing one is an error naming
+  // it; restarts themselves are tested in tests/io/test_mpm_restart.cpp).
+  EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_01_push.h5"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_02_lift.h5"));
+  const Result missing =
+      run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +
+                  (dir / "again").string() + "' --restart '" + (dir / "none.h5").string() + "'");
+  EXPECT_NE(missing.exit_code, 0) << missing.output;
+  EXPECT_NE(missing.output.find("none.h5"), std::string::npos) << missing.output;
+
   // energies.csv has the contact work and the absorbed energy (the solver's balance with them
   // is tested in tests/mpm).
   std::string energies_header;

@@ -7,11 +7,13 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <sstream>
 
 #include "pilempm/constitutive/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/element_output.hpp"
+#include "pilempm/io/mpm_checkpoint.hpp"
 #include "pilempm/io/mpm_phase_control.hpp"
 #include "pilempm/io/mpm_tractions.hpp"
 #include "pilempm/io/text_escaping.hpp"
@@ -205,13 +207,30 @@ void MpmProgress::update(const std::string& phase, double phase_end, const mpm::
         << std::flush;
 }
 
+std::string mpm_checkpoint_name(std::size_t phases_done, const std::string& phase) {
+  std::string name = phase;
+  for (char& ch : name)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.')
+      ch = '_';
+  return fmt::format("checkpoint_{:02d}_{}.h5", phases_done, name);
+}
+
+namespace {
+
+// The records of a checkpoint: the output text so far and the snapshot series.
+constexpr const char* kEnergiesRecord = "energies.csv";
+constexpr const char* kBodiesRecord = "bodies.csv";
+constexpr const char* kSeriesRecord = "particles.pvd";  // "time<TAB>file relative to the folder"
+
+}  // namespace
+
 MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_dir,
-                           std::ostream* progress_stream) {
+                           std::ostream* progress_stream, const std::filesystem::path& restart) {
   prepare_output_directory(out_dir);
   mpm::Solver solver = make_mpm_solver(c);
   const std::vector<mpm::Vec2> traction_forces =
       c.tractions.empty() ? std::vector<mpm::Vec2>{} : mpm_traction_forces(c, solver.particles());
-  const std::vector<mpm::Vec2> initial_position = solver.particles().position;
+  std::vector<mpm::Vec2> initial_position = solver.particles().position;
   std::vector<int> material_index;
   std::map<std::string, int> distinct;
   for (const std::string& name : c.material_names)
@@ -225,9 +244,48 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
   summary.pvd_file = out_dir / "particles.pvd";
   summary.energies_file = out_dir / "energies.csv";
   if (with_bodies) summary.bodies_file = out_dir / "bodies.csv";
-  PvdSeries series(summary.pvd_file);
+  const std::filesystem::path absolute_out = std::filesystem::absolute(out_dir);
+  PvdSeries series(absolute_out / "particles.pvd");
+  std::vector<std::pair<double, std::filesystem::path>> series_entries;  // for checkpoints
   std::string energies = mpm_energies_header(c.geometry);
   std::string bodies = with_bodies ? mpm_bodies_header(solver) : std::string();
+  std::size_t vtu_count = 0;
+
+  if (!restart.empty()) {
+    // The case's solver takes the checkpoint's state; the material sets of the phases before
+    // apply. (The next phase's settings are set by the loop below: the checkpoint is taken at
+    // a phase end, and a phase start forgets the cached wave speeds either way.)
+    const MpmCheckpointInfo info = read_mpm_checkpoint(restart, solver);
+    if (info.next_phase < 1 || static_cast<std::size_t>(info.next_phase) >= c.phases.size())
+      throw InputError(restart.string(), 0, "--restart", restart.string(),
+                       fmt::format("holds the state after {} phase(s), and the case has {}: "
+                                   "nothing left to run",
+                                   info.next_phase, c.phases.size()));
+    summary.first_phase = static_cast<std::size_t>(info.next_phase);
+    for (std::size_t k = 0; k < summary.first_phase; ++k)
+      for (const MpmMaterialChange& change : c.phases[k].material_changes)
+        solver.set_material(change.model, change.replacement);
+    if (info.initial_position.size() == initial_position.size())
+      initial_position = info.initial_position;
+    auto record = [&](const char* name) {
+      const auto at = info.records.find(name);
+      return at == info.records.end() ? std::string() : at->second;
+    };
+    if (!record(kEnergiesRecord).empty()) energies = record(kEnergiesRecord);
+    if (with_bodies && !record(kBodiesRecord).empty()) bodies = record(kBodiesRecord);
+    const std::filesystem::path from = std::filesystem::absolute(restart).parent_path();
+    std::istringstream entries(record(kSeriesRecord));
+    std::string line;
+    while (std::getline(entries, line)) {
+      const auto tab = line.find('\t');
+      if (tab == std::string::npos) continue;
+      const double time = std::stod(line.substr(0, tab));
+      const std::filesystem::path file = (from / line.substr(tab + 1)).lexically_normal();
+      series.add(time, file);
+      series_entries.emplace_back(time, file);
+    }
+    vtu_count = series_entries.size();
+  }
   double total_time = 0.0;
   for (const MpmPhase& phase : c.phases) total_time += phase.duration;
   MpmProgress progress(progress_stream, total_time);
@@ -247,18 +305,45 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
   auto snapshot = [&] {
     if (solver.time() == last_snapshot) return;
     last_snapshot = solver.time();
-    const std::filesystem::path file =
-        out_dir / fmt::format("particles_{:05d}.vtu", summary.vtu_files.size());
+    const std::string name = fmt::format("particles_{:05d}.vtu", vtu_count++);
+    const std::filesystem::path file = out_dir / name;
     write_vtu(file, mpm_particle_cloud(solver, initial_position, material_index));
-    series.add(solver.time(), file);
+    series.add(solver.time(), absolute_out / name);
+    series_entries.emplace_back(solver.time(), absolute_out / name);
     series.write();
     write_records();
     summary.vtu_files.push_back(file);
   };
-  add_rows(c.phases.front().name);
-  snapshot();
+  auto checkpoint = [&](std::size_t phases_done, const std::string& phase) {
+    MpmCheckpointInfo info;
+    info.case_source = c.source;
+    info.next_phase = static_cast<int>(phases_done);
+    info.phase_start = solver.time();
+    info.initial_position = initial_position;
+    info.records[kEnergiesRecord] = energies;
+    if (with_bodies) info.records[kBodiesRecord] = bodies;
+    std::string entries;
+    for (const auto& [time, file] : series_entries) {
+      entries += fmt::format("{:.17g}\t", time);
+      entries += file.lexically_relative(absolute_out).generic_string();
+      entries += '\n';
+    }
+    info.records[kSeriesRecord] = entries;
+    const std::filesystem::path file = out_dir / mpm_checkpoint_name(phases_done, phase);
+    write_mpm_checkpoint(file, solver, info);
+    summary.checkpoints.push_back(file);
+  };
+  if (restart.empty()) {
+    add_rows(c.phases.front().name);
+    snapshot();
+  } else {
+    // The checkpoint's records end with the rows and the snapshot of this time.
+    last_rows = last_snapshot = solver.time();
+    series.write();
+    write_records();
+  }
 
-  for (std::size_t k = 0; k < c.phases.size(); ++k) {
+  for (std::size_t k = summary.first_phase; k < c.phases.size(); ++k) {
     const MpmPhase& phase = c.phases[k];
     MpmPhaseEnd end;
     end.phase = phase.name;
@@ -309,6 +394,7 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
       throw Error(
           fmt::format("phase \"{}\" at t = {:.6g} s: {}", phase.name, solver.time(), e.what()));
     }
+    if (phase.checkpoint) checkpoint(k + 1, phase.name);
     end.time = solver.time();
     end.steps = solver.steps();
     progress.update(phase.name, end.time, solver, /*force=*/true);

@@ -69,14 +69,25 @@ struct MpmRunSummary {
   double wall_seconds = 0.0;
   std::vector<std::filesystem::path> vtu_files;                ///< written by this run
   std::filesystem::path pvd_file, energies_file, bodies_file;  ///< bodies_file: empty if none
-  std::vector<MpmPhaseEnd> phase_ends;  ///< the phases this run ran, in order
+  std::vector<MpmPhaseEnd> phase_ends;             ///< the phases this run ran, in order
+  std::vector<std::filesystem::path> checkpoints;  ///< written by this run
+  std::size_t first_phase = 0;                     ///< > 0 when restarted
 };
 
 /// Runs the phases of a case, writing into `out_dir` (created if needed): particles_NNNNN.vtu,
-/// particles.pvd, energies.csv and, with rigid bodies, bodies.csv. Progress lines and the end of
-/// each phase go to `progress` (nullptr: none). Throws Error naming the phase when the solver
+/// particles.pvd, energies.csv, with rigid bodies bodies.csv, and at the end of each phase that
+/// asks for it checkpoint_NN_<phase>.h5 (NN: the number of phases done). Progress lines and the
+/// end of each phase go to `progress` (nullptr: none). With `restart` (a checkpoint file), the
+/// run continues from it with the case's phases from the checkpoint's next phase on and the
+/// case's materials (with the material changes of the phases before), and its output files
+/// start with the records the checkpoint holds. Throws Error naming the phase when the solver
 /// fails; what was written up to then stays valid.
 MpmRunSummary run_mpm_case(const MpmCase& mpm_case, const std::filesystem::path& out_dir,
-                           std::ostream* progress);
+                           std::ostream* progress, const std::filesystem::path& restart = {});
+
+/// The file name of the checkpoint after `phases_done` phases, the last one named `phase`:
+/// checkpoint_NN_<phase>.h5 with characters other than letters, digits, '-', '_' and '.'
+/// replaced by '_'.
+std::string mpm_checkpoint_name(std::size_t phases_done, const std::string& phase);
 
 }  // namespace pilempm
