@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "pilempm/constitutive/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_case.hpp"
@@ -277,6 +278,24 @@ TEST(MpmCase, HypoplasticGroundStartsAtItsScaledVoidRatioAndRuns) {
   std::getline(csv, header);
   EXPECT_NE(header.find("per radian"), std::string::npos) << header;
   std::filesystem::remove_all(out);
+}
+
+TEST(MpmCase, PhaseMaterialsSwitchHypoplasticSetsAndKeepTheRegionsIgs) {
+  std::string text = kHypoplasticCase;
+  text +=
+      "[[phase]]\nduration_s = 0.001\n[phase.materials]\noriginal = \"modified-medium-dense\"\n";
+  const MpmCase c = read_mpm_case_text(text, "hypo.toml");
+  ASSERT_EQ(c.phases.size(), 2u);
+  ASSERT_EQ(c.phases[1].material_changes.size(), 1u);
+  const auto* before = dynamic_cast<const Hypoplastic*>(c.models.at(0).get());
+  const auto* after =
+      dynamic_cast<const Hypoplastic*>(c.phases[1].material_changes[0].replacement.get());
+  ASSERT_NE(before, nullptr);
+  ASSERT_NE(after, nullptr);
+  EXPECT_DOUBLE_EQ(before->parameters().alpha, 0.12);
+  EXPECT_DOUBLE_EQ(after->parameters().alpha, 0.03);
+  EXPECT_TRUE(after->intergranular().enabled());  // the region's igs = "IGS1"
+  EXPECT_DOUBLE_EQ(after->intergranular().R, before->intergranular().R);
 }
 
 TEST(MpmCase, RegionOutsideTheGridIsAnError) {
