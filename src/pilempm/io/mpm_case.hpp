@@ -22,8 +22,10 @@ namespace pilempm {
 
 /// The initial stress of a region.
 enum class MpmInitialStress {
-  zero,       ///< stress free
-  geostatic,  ///< σ_v = N g ∫ ρ dz of the regions above, σ_h = K0 σ_v (N of the first phase)
+  zero,  ///< stress free
+  /// σ_v = N g ∫ ρ dz of the regions above, σ_h = K0 σ_v (N of the first phase, and again at
+  /// the start of each geostatic phase with its N)
+  geostatic,
 };
 
 /// One rectangle of particles.
