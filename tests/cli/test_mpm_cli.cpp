@@ -278,10 +278,18 @@ TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
   EXPECT_GT(lift_displacement, -0.01);         // it went back up
   EXPECT_GT(max_force, 1000.0);
 
-  // A checkpoint at each phase end, and --restart takes one (a missing one is an error naming
-  // it; restarts themselves are tested in tests/io/test_mpm_restart.cpp).
+  // A checkpoint at each phase end; a restart from the first one ends with the same files.
   EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_01_push.h5"));
   EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_02_lift.h5"));
+  const Result restarted = run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +
+                                       (dir / "restarted").string() + "' --restart '" +
+                                       (dir / "out" / "checkpoint_01_push.h5").string() + "'");
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  EXPECT_NE(restarted.output.find("restarted from"), std::string::npos) << restarted.output;
+  EXPECT_EQ(restarted.output.find("phase push: ended"), std::string::npos) << restarted.output;
+  EXPECT_NE(restarted.output.find("phase lift: ended"), std::string::npos) << restarted.output;
+  EXPECT_EQ(read_text(dir / "restarted" / "bodies.csv"), read_text(dir / "out" / "bodies.csv"));
+  EXPECT_EQ(read_text(dir / "restarted" / "energies.csv"), read_text(dir / "out" / "energies.csv"));
   const Result missing =
       run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +
                   (dir / "again").string() + "' --restart '" + (dir / "none.h5").string() + "'");
