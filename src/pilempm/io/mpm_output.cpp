@@ -262,6 +262,11 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
                                    "nothing left to run",
                                    info.next_phase, c.phases.size()));
     summary.first_phase = static_cast<std::size_t>(info.next_phase);
+    if (progress_stream != nullptr && info.threads > 0 && info.threads != solver.threads())
+      *progress_stream << fmt::format(
+          "mpm: the checkpoint was written with {} thread(s), this run has {}: it continues to "
+          "round-off, not bitwise\n",
+          info.threads, solver.threads());
     for (std::size_t k = 0; k < summary.first_phase; ++k)
       for (const MpmMaterialChange& change : c.phases[k].material_changes)
         solver.set_material(change.model, change.replacement);
