@@ -304,6 +304,14 @@ TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
   ASSERT_FALSE(energies.empty());
   EXPECT_EQ(energies.back().size(), 9u);
   EXPECT_NEAR(std::stod(energies.back()[0]), lift_end, 1e-9);  // a row at each phase end
+  int push_end_rows = 0;
+  for (const auto& row : energies) {
+    if (std::abs(std::stod(row[0]) - push_end) > 1e-9) continue;
+    ++push_end_rows;
+    EXPECT_GT(std::stod(row[7]), 0.0);  // the plate pushing down works on the soil
+    EXPECT_EQ(std::stod(row[8]), 0.0);  // no absorbing boundaries
+  }
+  EXPECT_EQ(push_end_rows, 1);
   fs::remove_all(dir);
 }
 

@@ -739,6 +739,32 @@ TEST(MpmCase, PhaseStartSetsTractionsGeostaticStressAndMaterials) {
   EXPECT_EQ(stiffer.stop_reason(), "");
 }
 
+TEST(MpmCase, AbsorbingSideTakesEnergyOutOfAMovingBlock) {
+  // A block moving towards the right side, which absorbs: energies.csv shows absorbed_J > 0.
+  std::string text = kSurchargeCase;
+  text = replaced(text, "right = \"roller\"",
+                  "right = { kind = \"absorbing\", density_kg_per_m3 = 2000.0, "
+                  "p_wave_speed_m_per_s = 116.0, s_wave_speed_m_per_s = 62.0 }");
+  text = replaced(text, "left = \"roller\"\n", "");
+  text = replaced(text, "initial_stress = \"geostatic\"",
+                  "initial_stress = \"geostatic\"\nvelocity_x_m_per_s = 0.1");
+  text = replaced(text, "kind = \"geostatic\"\nduration_s = 0.5", "duration_s = 0.01");
+  text = replaced(text, "local_damping = 0.7\n", "");
+  const MpmCase c = read_mpm_case_text(text, "case.toml");
+  ASSERT_EQ(phase_settings(c, c.phases[0]).absorbing_boundaries.size(), 1u);
+  const std::filesystem::path out = std::filesystem::temp_directory_path() /
+                                    ("pilempm-mpm-absorbing-" + std::to_string(::getpid()));
+  std::filesystem::remove_all(out);
+  run_mpm_case(c, out, nullptr);
+  std::ifstream csv(out / "energies.csv");
+  std::string line, last;
+  while (std::getline(csv, line))
+    if (!line.empty()) last = line;
+  const double absorbed = std::stod(last.substr(last.rfind(',') + 1));
+  EXPECT_GT(absorbed, 0.0) << last;
+  std::filesystem::remove_all(out);
+}
+
 TEST(MpmCase, PileRowsOfBodiesCsvAreFullBodyForces) {
   // A pile of one cell's radius, its tip 0.1 m deep, in ground at rest (no surcharge).
   std::string text = replaced(kPileCase, "radius_m = 0.01", "radius_m = 0.05");
