@@ -1,6 +1,7 @@
 // `pilempm mpm ...`: material point method runs. `run` reads a case file
 // (docs/mpm-case-files.md), checks all of it before the first step, runs its phases and writes
-// the particle snapshots (VTU + PVD) and the energy account (CSV) into the output folder.
+// the particle snapshots (VTU + PVD), the energy account and the rigid bodies' motion and forces
+// (CSV) into the output folder, and how each phase ended.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
@@ -20,6 +21,7 @@ namespace {
 struct MpmRunFlags {
   std::string case_file;
   std::string out = "mpm-results";
+  std::string restart;
   bool quiet = false;
 };
 
@@ -27,16 +29,25 @@ void run_mpm(const MpmRunFlags& flags) {
   const MpmCase c = read_mpm_case(flags.case_file);
   double total = 0.0;
   for (const MpmPhase& phase : c.phases) total += phase.duration;
-  fmt::print("{}: {} region{}, {} phase{}, {:.6g} s simulated -> {}/\n", c.source, c.regions.size(),
-             c.regions.size() == 1 ? "" : "s", c.phases.size(), c.phases.size() == 1 ? "" : "s",
+  fmt::print("{}: {} region{}, {} bod{}, {} phase{}, at most {:.6g} s simulated -> {}/\n", c.source,
+             c.regions.size(), c.regions.size() == 1 ? "" : "s", c.bodies.size(),
+             c.bodies.size() == 1 ? "y" : "ies", c.phases.size(), c.phases.size() == 1 ? "" : "s",
              total, flags.out);
   std::fflush(stdout);
-  const MpmRunSummary summary = run_mpm_case(c, flags.out, flags.quiet ? nullptr : &std::cerr);
+  const MpmRunSummary summary =
+      run_mpm_case(c, flags.out, flags.quiet ? nullptr : &std::cerr, flags.restart);
+  if (!flags.restart.empty())
+    fmt::print("restarted from {}: phases from \"{}\" on\n", flags.restart,
+               c.phases.at(summary.first_phase).name);
+  for (const MpmPhaseEnd& end : summary.phase_ends)
+    fmt::print("phase {}: ended at t = {:.6g} s, step {}: {}\n", end.phase, end.time, end.steps,
+               end.reason);
   fmt::print(
       "done: {} steps to t = {:.6g} s in {:.2f} s wall; {} snapshots in {}, energies in "
-      "{}\n",
+      "{}{}\n",
       summary.steps, summary.time, summary.wall_seconds, summary.vtu_files.size(),
-      summary.pvd_file.string(), summary.energies_file.string());
+      summary.pvd_file.string(), summary.energies_file.string(),
+      summary.bodies_file.empty() ? std::string() : ", bodies in " + summary.bodies_file.string());
 }
 
 }  // namespace
@@ -45,14 +56,19 @@ void register_mpm_commands(CLI::App& app) {
   CLI::App* mpm = app.add_subcommand("mpm", "material point method simulations");
   mpm->require_subcommand(1);
   auto flags = std::make_shared<MpmRunFlags>();
-  CLI::App* run =
-      mpm->add_subcommand("run",
-                          "run an MPM case file (docs/mpm-case-files.md); writes particles_*.vtu, "
-                          "particles.pvd (open in ParaView) and energies.csv");
+  CLI::App* run = mpm->add_subcommand(
+      "run",
+      "run an MPM case file (docs/mpm-case-files.md); writes particles_*.vtu, "
+      "particles.pvd (open in ParaView), energies.csv, bodies.csv and a checkpoint "
+      "per phase");
   run->add_option("case", flags->case_file, "the case file (TOML)")
       ->required()
       ->type_name("CASE.toml");
   run->add_option("--out", flags->out, "output folder")->capture_default_str()->type_name("DIR");
+  run->add_option("--restart", flags->restart,
+                  "continue from a checkpoint (checkpoint_NN_<phase>.h5 of an earlier run) with "
+                  "the case's phases after it and the case's materials")
+      ->type_name("FILE");
   run->add_flag("--quiet", flags->quiet, "no progress lines on stderr");
   run->callback([flags]() { run_mpm(*flags); });
 }

@@ -99,18 +99,23 @@ TEST(MpmCli, ColumnExampleWritesSnapshotsEnergiesAndTheWeightOfTheColumn) {
   std::getline(csv, line);
   EXPECT_NE(line.find("per metre"), std::string::npos) << line;
   std::getline(csv, line);
-  EXPECT_EQ(line, "time_s,step,dt_s,kinetic_J,internal_J,external_work_J,damping_J");
+  EXPECT_EQ(line,
+            "time_s,step,dt_s,kinetic_J,internal_J,external_work_J,damping_J,contact_work_J,"
+            "absorbed_J");
   std::string last;
   int rows = 0;
   while (std::getline(csv, line))
     if (!line.empty()) last = line, ++rows;
   EXPECT_GE(rows, 100);  // every output interval / 10
-  double time = 0, dt = 0, kinetic = 0, internal = 0, external = 0, damping = 0;
+  double time = 0, dt = 0, kinetic = 0, internal = 0, external = 0, damping = 0, contact = 1,
+         absorbed = 1;
   long step = 0;
-  ASSERT_EQ(std::sscanf(last.c_str(), "%lf,%ld,%lf,%lf,%lf,%lf,%lf", &time, &step, &dt, &kinetic,
-                        &internal, &external, &damping),
-            7)
+  ASSERT_EQ(std::sscanf(last.c_str(), "%lf,%ld,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &time, &step, &dt,
+                        &kinetic, &internal, &external, &damping, &contact, &absorbed),
+            9)
       << last;
+  EXPECT_EQ(contact, 0.0);   // no rigid bodies
+  EXPECT_EQ(absorbed, 0.0);  // no absorbing boundaries
   EXPECT_NEAR(time, 1.0, 1e-9);
   EXPECT_GT(step, 100);
   EXPECT_LT(kinetic, 1e-6 * internal);  // at rest
@@ -135,8 +140,179 @@ TEST(MpmCli, ColumnExampleWritesSnapshotsEnergiesAndTheWeightOfTheColumn) {
     // Oedometric: σ_xx = ν / (1 - ν) σ_yy, compression positive.
     EXPECT_NEAR(stress[9 * p + 0], 0.3 / 0.7 * stress[9 * p + 4], 0.05 * weight_kPa);
   }
-  EXPECT_EQ(bottom, 10);  // 5 cells x 2 particles
+  EXPECT_EQ(bottom, 10);                         // 5 cells x 2 particles
+  EXPECT_FALSE(fs::exists(out / "bodies.csv"));  // no rigid bodies
+  EXPECT_NE(r.output.find("phase self-weight: ended at t = 1 s"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("duration_s"), std::string::npos) << r.output;
   fs::remove_all(out);
+}
+
+// An elastic block in plane strain with a rigid plate on its surface: the plate is pushed down
+// (with a velocity ramp) until it has moved 1 cm, which ends the first phase before its duration;
+// then it is lifted until the soil's force on it falls below 1 kN/m, which ends the second.
+const char* const kPlateCase = R"(title = "plate on an elastic block"
+[geometry]
+kind = "plane-strain"
+[grid.x]
+spacing = "uniform"
+min_m = 0.0
+max_m = 1.0
+cells = 10
+[grid.y]
+spacing = "uniform"
+min_m = 0.0
+max_m = 1.0
+cells = 10
+[boundaries]
+left = "roller"
+right = "roller"
+bottom = "fixed"
+[solver]
+local_damping = 0.1
+threads = 1
+[[material]]
+name = "elastic"
+model = "linear-elastic"
+young_modulus_MPa = 10.0
+poisson_ratio = 0.3
+[[region]]
+name = "block"
+x_min_m = 0.0
+x_max_m = 1.0
+y_min_m = 0.0
+y_max_m = 0.5
+particles_per_cell = 2
+density_kg_per_m3 = 2000.0
+material = "elastic"
+initial_stress = "geostatic"
+[[body]]
+name = "plate"
+kind = "polygon"
+vertices_m = [[0.3, 0.5], [0.7, 0.5], [0.7, 0.6], [0.3, 0.6]]
+interface_friction_angle_deg = 20.0
+[[phase]]
+name = "push"
+duration_s = 1.0
+energy_interval_s = 0.01
+stop_phase_displacement_y_m = -0.01
+[phase.body.plate]
+velocity_y_m_per_s = -0.1
+ramp_s = 0.02
+[[phase]]
+name = "lift"
+duration_s = 0.5
+energy_interval_s = 0.01
+stop_body = "plate"
+stop_force_y_below_N = 1000.0
+[phase.body.plate]
+velocity_y_m_per_s = 0.1
+)";
+
+// The rows of a CSV file after its comment and header lines, split at commas.
+std::vector<std::vector<std::string>> csv_rows(const std::string& text, std::string* header) {
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header != nullptr && header->empty()) {
+      *header = line;
+      continue;
+    }
+    std::vector<std::string> fields;
+    std::string field;
+    std::istringstream cells(line);
+    while (std::getline(cells, field, ',')) fields.push_back(field);
+    rows.push_back(fields);
+  }
+  return rows;
+}
+
+TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("pilempm-mpm-plate-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "plate.toml") << kPlateCase;
+  const Result r = run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +
+                               (dir / "out").string() + "'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("phase push: ended at t = "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("stop_phase_displacement_y_m = -0.01: plate displacement y = -0.01 m"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("stop_force_y_below_N = 1000: plate force y = "), std::string::npos)
+      << r.output;
+
+  std::string header;
+  const auto rows = csv_rows(read_text(dir / "out" / "bodies.csv"), &header);
+  EXPECT_EQ(header,
+            "time_s,step,phase,body,displacement_x_m,displacement_y_m,velocity_x_m_per_s,"
+            "velocity_y_m_per_s,force_x_N,force_y_N,force_y_edge_0_N,force_y_edge_1_N,"
+            "force_y_edge_2_N,force_y_edge_3_N");
+  ASSERT_GT(rows.size(), 10u);
+  double push_end = -1, push_force = 0, lift_end = -1, lift_displacement = 0, max_force = 0;
+  double part_sum = 0;
+  for (const auto& row : rows) {
+    ASSERT_EQ(row.size(), 14u);
+    EXPECT_EQ(row[3], "plate");
+    max_force = std::max(max_force, std::stod(row[9]));
+    if (row[2] == "push") {
+      push_end = std::stod(row[0]);
+      push_force = std::stod(row[9]);
+      EXPECT_GE(std::stod(row[5]), -0.01 - 1e-12);  // never beyond the goal
+      part_sum = 0;
+      for (std::size_t k = 10; k < 14; ++k) part_sum += std::stod(row[k]);
+    } else {
+      EXPECT_EQ(row[2], "lift");
+      lift_end = std::stod(row[0]);
+      lift_displacement = std::stod(row[5]);
+    }
+  }
+  // The ramp: 0.5 mm over 0.02 s, then 9.5 mm at 0.1 m/s: 0.11 s.
+  EXPECT_NEAR(push_end, 0.11, 2e-3);
+  EXPECT_GT(push_force, 1000.0);  // the block pushes back
+  EXPECT_NEAR(part_sum, push_force, 1e-6 * push_force);
+  EXPECT_GT(lift_end, push_end);
+  EXPECT_LT(lift_end, push_end + 0.5 - 1e-3);  // ended by the force rule, not the duration
+  EXPECT_GT(lift_displacement, -0.01);         // it went back up
+  EXPECT_GT(max_force, 1000.0);
+
+  // A checkpoint at each phase end; a restart from the first one ends with the same files.
+  EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_01_push.h5"));
+  EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_02_lift.h5"));
+  const Result restarted = run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +
+                                       (dir / "restarted").string() + "' --restart '" +
+                                       (dir / "out" / "checkpoint_01_push.h5").string() + "'");
+  ASSERT_EQ(restarted.exit_code, 0) << restarted.output;
+  EXPECT_NE(restarted.output.find("restarted from"), std::string::npos) << restarted.output;
+  EXPECT_EQ(restarted.output.find("phase push: ended"), std::string::npos) << restarted.output;
+  EXPECT_NE(restarted.output.find("phase lift: ended"), std::string::npos) << restarted.output;
+  EXPECT_EQ(read_text(dir / "restarted" / "bodies.csv"), read_text(dir / "out" / "bodies.csv"));
+  EXPECT_EQ(read_text(dir / "restarted" / "energies.csv"), read_text(dir / "out" / "energies.csv"));
+  const Result missing =
+      run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +
+                  (dir / "again").string() + "' --restart '" + (dir / "none.h5").string() + "'");
+  EXPECT_NE(missing.exit_code, 0) << missing.output;
+  EXPECT_NE(missing.output.find("none.h5"), std::string::npos) << missing.output;
+
+  // energies.csv has the contact work and the absorbed energy (the solver's balance with them
+  // is tested in tests/mpm).
+  std::string energies_header;
+  const auto energies = csv_rows(read_text(dir / "out" / "energies.csv"), &energies_header);
+  EXPECT_NE(energies_header.find(",contact_work_J,absorbed_J"), std::string::npos);
+  ASSERT_FALSE(energies.empty());
+  EXPECT_EQ(energies.back().size(), 9u);
+  EXPECT_NEAR(std::stod(energies.back()[0]), lift_end, 1e-9);  // a row at each phase end
+  int push_end_rows = 0;
+  for (const auto& row : energies) {
+    if (std::abs(std::stod(row[0]) - push_end) > 1e-9) continue;
+    ++push_end_rows;
+    EXPECT_GT(std::stod(row[7]), 0.0);  // the plate pushing down works on the soil
+    EXPECT_EQ(std::stod(row[8]), 0.0);  // no absorbing boundaries
+  }
+  EXPECT_EQ(push_end_rows, 1);
+  fs::remove_all(dir);
 }
 
 TEST(MpmCli, BadCaseFileIsReportedWithFileLineAndKey) {

@@ -85,6 +85,7 @@ mpm::SolverSettings read_solver(std::optional<TableReader> solver) {
   s.fixed_time_step =
       solver->number_or("fixed_time_step_s", s.fixed_time_step, NumberRange::non_negative());
   s.threads = solver->integer_or("threads", s.threads, 0, kMaxThreads);
+  s.volumetric_smoothing = solver->boolean_or("volumetric_smoothing", s.volumetric_smoothing);
   solver->check_no_unknown_keys();
   return s;
 }
@@ -143,7 +144,8 @@ MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
   r.material = *material;
   const bool hypoplastic = material->kind == ModelKind::hypoplastic;
   if (hypoplastic) {
-    if (t.contains("igs"))
+    r.igs_in_region = t.contains("igs");
+    if (r.igs_in_region)
       r.igs = read_igs(t, "igs");
     else if (material->igs)
       r.igs = material->igs;
@@ -192,9 +194,297 @@ MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
   return r;
 }
 
-MpmPhase read_phase(TableReader& t, const mpm::SolverSettings& solver, int index) {
+// One side of [boundaries]: a condition by name or an absorbing boundary as a table.
+void read_side(TableReader& sides, mpm::Side side, const char* name, MpmCase& c) {
+  const toml::node* node = sides.node(name);
+  if (node == nullptr) return;
+  if (!node->is_table()) {
+    c.boundaries[static_cast<std::size_t>(side)] =
+        parse_boundary(sides.choice(name, kBoundaryNames));
+    return;
+  }
+  TableReader t = *sides.table(name);
+  t.choice("kind", {"absorbing"});
+  mpm::AbsorbingBoundary b;
+  b.side = side;
+  b.density = t.number("density_kg_per_m3", NumberRange::positive());
+  b.p_wave_speed = t.number("p_wave_speed_m_per_s", NumberRange::non_negative());
+  b.s_wave_speed = t.number("s_wave_speed_m_per_s", NumberRange::non_negative());
+  t.check_no_unknown_keys();
+  c.boundaries[static_cast<std::size_t>(side)] = mpm::BoundaryCondition::free;
+  c.solver.absorbing_boundaries.push_back(b);
+}
+
+// Names as a list for messages: "a", "b".
+std::string quoted_names(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) {
+    if (!text.empty()) text += ", ";
+    text += '"';
+    text += name;
+    text += '"';
+  }
+  return text.empty() ? std::string("(none)") : text;
+}
+
+// [[body]]: a pile (axisymmetry) or a convex polygon (plane strain).
+MpmBody read_body(TableReader& t, mpm::Geometry geometry, int index) {
+  MpmBody b;
+  b.line = t.line();
+  b.key = t.path();
+  b.name = t.optional_string("name").value_or(fmt::format("body{}", index + 1));
+  t.declare({"kind", "radius_m", "tip_y_m", "tip", "apex_angle_deg", "vertices_m",
+             "interface_friction_angle_deg", "contact_distance_m"});
+  const bool axisymmetric = geometry == mpm::Geometry::axisymmetric;
+  const std::string kind = t.choice("kind", {"pile", "polygon"});
+  b.kind = kind == "pile" ? MpmBodyKind::pile : MpmBodyKind::polygon;
+  if (b.kind == MpmBodyKind::pile && !axisymmetric)
+    throw t.error("kind",
+                  "not allowed in plane strain: a pile needs geometry kind = "
+                  "\"axisymmetric\"; use \"polygon\"");
+  if (b.kind == MpmBodyKind::polygon && axisymmetric)
+    throw t.error("kind",
+                  "not allowed in axisymmetry: a body there is a pile on the axis; use "
+                  "\"pile\"");
+  const auto forbid = [&](const char* key, const char* reason) {
+    if (t.contains(key)) throw t.error(key, fmt::format("not allowed: {}", reason));
+  };
+  if (b.kind == MpmBodyKind::pile) {
+    forbid("vertices_m", "a pile is given by radius_m, tip_y_m and tip");
+    b.radius = t.number("radius_m", NumberRange::positive());
+    b.tip_y = t.number("tip_y_m", NumberRange::any());
+    const std::string tip = t.choice("tip", {"conical", "flat"});
+    if (tip == "flat") {
+      forbid("apex_angle_deg", "a flat tip has no apex angle");
+      b.apex_angle = kPi;
+    } else {
+      b.apex_angle =
+          t.number_or("apex_angle_deg", 60.0, NumberRange::open(0.0, 180.0)) * kPi / 180.0;
+    }
+  } else {
+    for (const char* key : {"radius_m", "tip_y_m", "tip", "apex_angle_deg"})
+      forbid(key, "a polygon is given by vertices_m");
+    const toml::node* node = t.node("vertices_m");
+    if (node == nullptr)
+      throw t.missing("vertices_m",
+                      "the polygon's corners, vertices_m = [[x, y], ...] [m], at "
+                      "least three, convex");
+    const char* allowed = "an array of at least three [x, y] pairs of finite numbers [m]";
+    const toml::array* list = node->as_array();
+    if (list == nullptr || list->size() < 3) throw t.error("vertices_m", allowed);
+    for (const toml::node& vertex : *list) {
+      const toml::array* pair = vertex.as_array();
+      if (pair == nullptr || pair->size() != 2) throw t.error("vertices_m", allowed);
+      mpm::Vec2 v;
+      for (std::size_t k = 0; k < 2; ++k) {
+        const std::optional<double> x = (*pair)[k].value<double>();
+        if (!x || !std::isfinite(*x)) throw t.error("vertices_m", allowed);
+        v[static_cast<Eigen::Index>(k)] = *x;
+      }
+      b.vertices.push_back(v);
+    }
+  }
+  b.friction =
+      std::tan(t.number("interface_friction_angle_deg", {0.0, 90.0, false, true}) * kPi / 180.0);
+  b.contact_distance = t.number_or("contact_distance_m", 0.0, NumberRange::positive());
+  t.check_no_unknown_keys();
+  try {
+    make_rigid_body(b);
+  } catch (const InvalidValue& e) {
+    throw t.error(
+        b.kind == MpmBodyKind::pile ? "radius_m" : "vertices_m",
+        fmt::format("not a valid body: {} = {} must be {}", e.key(), e.value(), e.allowed()));
+  }
+  return b;
+}
+
+// [[traction]]: a uniform traction on one side of a region.
+MpmTraction read_traction(TableReader& t, const std::vector<MpmRegion>& regions) {
+  MpmTraction tr;
+  tr.line = t.line();
+  tr.key = t.path();
+  const std::string region = t.string("region");
+  std::vector<std::string> names;
+  int found = -1, matches = 0;
+  for (std::size_t i = 0; i < regions.size(); ++i) {
+    names.push_back(regions[i].name);
+    if (regions[i].name == region) found = static_cast<int>(i), ++matches;
+  }
+  if (matches == 0)
+    throw t.error("region", fmt::format("unknown: must be the name of a [[region]], one of {}",
+                                        quoted_names(names)));
+  if (matches > 1)
+    throw t.error("region",
+                  "ambiguous: several regions have this name; give them distinct "
+                  "names");
+  tr.region = found;
+  const std::string side = t.choice("side", {"left", "right", "bottom", "top"});
+  tr.side = side == "left"     ? mpm::Side::left
+            : side == "right"  ? mpm::Side::right
+            : side == "bottom" ? mpm::Side::bottom
+                               : mpm::Side::top;
+  tr.normal = t.number("normal_kPa", NumberRange::any()) * kKPa;
+  tr.shear = t.number_or("shear_kPa", 0.0, NumberRange::any()) * kKPa;
+  t.check_no_unknown_keys();
+  return tr;
+}
+
+// The keys of a sub-table whose keys are names (of bodies, of materials), in source order.
+std::vector<std::string> table_keys(const toml::node& node) {
+  std::vector<std::pair<long, std::string>> keys;
+  if (const toml::table* table = node.as_table())
+    for (auto&& [key, value] : *table)
+      keys.emplace_back(static_cast<long>(value.source().begin.line), std::string(key.str()));
+  std::stable_sort(keys.begin(), keys.end());
+  std::vector<std::string> names;
+  for (auto& key : keys) names.push_back(std::move(key.second));
+  return names;
+}
+
+struct StopKey {
+  const char* key;
+  MpmStopQuantity quantity;
+  int component;
+};
+const StopKey kStopKeys[] = {
+    {"stop_displacement_x_m", MpmStopQuantity::displacement, 0},
+    {"stop_displacement_y_m", MpmStopQuantity::displacement, 1},
+    {"stop_phase_displacement_x_m", MpmStopQuantity::phase_displacement, 0},
+    {"stop_phase_displacement_y_m", MpmStopQuantity::phase_displacement, 1},
+    {"stop_force_x_below_N", MpmStopQuantity::force_below, 0},
+    {"stop_force_y_below_N", MpmStopQuantity::force_below, 1},
+    {"stop_force_x_above_N", MpmStopQuantity::force_above, 0},
+    {"stop_force_y_above_N", MpmStopQuantity::force_above, 1},
+};
+
+// [phase.body.NAME] tables: the bodies' motion in the phase (at rest when absent).
+void read_body_motions(TableReader& t, const MpmCase& c, MpmPhase& p) {
+  p.body_motion.assign(c.bodies.size(), MpmBodyMotion{});
+  const toml::node* node = t.node("body");
+  if (node == nullptr) return;
+  TableReader bodies = *t.table("body");
+  std::vector<std::string> names;
+  for (const MpmBody& b : c.bodies) names.push_back(b.name);
+  for (const std::string& name : table_keys(*node)) {
+    const auto at = std::find(names.begin(), names.end(), name);
+    if (at == names.end())
+      throw bodies.error(name, fmt::format("unknown body: must be the name of a [[body]], one of "
+                                           "{}",
+                                           quoted_names(names)));
+    const std::size_t index = static_cast<std::size_t>(at - names.begin());
+    std::optional<TableReader> motion = bodies.table(name);
+    MpmBodyMotion& m = p.body_motion[index];
+    if (c.bodies[index].kind == MpmBodyKind::pile && motion->contains("velocity_x_m_per_s"))
+      throw motion->error("velocity_x_m_per_s",
+                          "not allowed: a pile moves along the axis (y) only");
+    m.velocity = {motion->number_or("velocity_x_m_per_s", 0.0, NumberRange::any()),
+                  motion->number_or("velocity_y_m_per_s", 0.0, NumberRange::any())};
+    m.ramp = motion->number_or("ramp_s", 0.0, NumberRange::non_negative());
+    motion->check_no_unknown_keys();
+  }
+  bodies.check_no_unknown_keys();
+}
+
+// The stop rules of a phase and the body they watch.
+void read_stop_rules(TableReader& t, const MpmCase& c, MpmPhase& p) {
+  std::vector<std::string> names;
+  for (const MpmBody& b : c.bodies) names.push_back(b.name);
+  for (const StopKey& k : kStopKeys) {
+    const std::optional<double> value = t.optional_number(k.key, NumberRange::any());
+    if (!value) continue;
+    if (k.quantity == MpmStopQuantity::phase_displacement && *value == 0.0)
+      throw t.error(k.key, "must be a non-zero displacement [m] (its sign gives the direction)");
+    p.stop_rules.push_back({k.key, k.quantity, k.component, *value});
+  }
+  const std::optional<std::string> body = t.optional_string("stop_body");
+  if (p.stop_rules.empty()) {
+    if (body)
+      throw t.error("stop_body",
+                    "not allowed without a stop rule (stop_displacement_y_m, "
+                    "stop_force_y_below_N, ...)");
+    return;
+  }
+  const std::string& first = p.stop_rules.front().key;
+  if (c.bodies.empty())
+    throw t.error(first,
+                  "not allowed: a stop rule watches a rigid body, and the case has no "
+                  "[[body]]");
+  if (body) {
+    const auto at = std::find(names.begin(), names.end(), *body);
+    if (at == names.end())
+      throw t.error("stop_body", fmt::format("unknown body: must be the name of a [[body]], one "
+                                             "of {}",
+                                             quoted_names(names)));
+    p.stop_body = static_cast<int>(at - names.begin());
+  } else if (c.bodies.size() == 1) {
+    p.stop_body = 0;
+  } else {
+    throw t.missing("stop_body",
+                    fmt::format("the body the stop rules watch, one of {}", quoted_names(names)));
+  }
+  if (c.bodies[static_cast<std::size_t>(p.stop_body)].kind == MpmBodyKind::pile)
+    for (const MpmStopRule& rule : p.stop_rules)
+      if (rule.component == 0)
+        throw t.error(rule.key,
+                      "not allowed for a pile: it moves along the axis only and its "
+                      "radial forces cancel around it; use the _y_ rule");
+}
+
+// [phase.materials]: "role" = "new set" for the regions whose material is "role".
+void read_material_changes(TableReader& t, const MpmCase& c, const MaterialCatalog& catalog,
+                           MpmPhase& p) {
+  const toml::node* node = t.node("materials");
+  if (node == nullptr) return;
+  TableReader materials = *t.table("materials");
+  std::vector<std::string> roles;
+  for (const MpmRegion& r : c.regions)
+    if (std::find(roles.begin(), roles.end(), r.material.name) == roles.end())
+      roles.push_back(r.material.name);
+  for (const std::string& role : table_keys(*node)) {
+    if (std::find(roles.begin(), roles.end(), role) == roles.end())
+      throw materials.error(role, fmt::format("unknown: the key must be a material that a "
+                                              "[[region]] names, one of {}",
+                                              quoted_names(roles)));
+    const std::string name = materials.string(role);
+    const MaterialSpec* spec = catalog.find(name);
+    if (spec == nullptr)
+      throw materials.error(role, fmt::format("unknown: must be a [[material]] name or a "
+                                              "built-in set, one of {}",
+                                              fmt::join(catalog.names(), ", ")));
+    for (std::size_t i = 0; i < c.regions.size(); ++i) {
+      const MpmRegion& r = c.regions[i];
+      if (r.material.name != role) continue;
+      if (spec->kind != r.material.kind)
+        throw materials.error(role,
+                              fmt::format("must be a {} material like \"{}\" (the "
+                                          "particles keep their state), not {}",
+                                          to_string(r.material.kind), role, to_string(spec->kind)));
+      const std::optional<IgsChoice> igs = r.igs_in_region || !spec->igs ? r.igs : spec->igs;
+      try {
+        p.material_changes.push_back(
+            {static_cast<int>(i), name, make_model(*spec, igs, catalog.integrator())});
+      } catch (const InvalidValue& e) {
+        throw materials.error(role,
+                              fmt::format("{} = {}: must be {}", e.key(), e.value(), e.allowed()));
+      }
+    }
+  }
+  materials.check_no_unknown_keys();
+}
+
+MpmPhase read_phase(TableReader& t, const MpmCase& c, const MaterialCatalog& catalog, int index) {
+  const mpm::SolverSettings& solver = c.solver;
   MpmPhase p;
   p.name = t.optional_string("name").value_or(fmt::format("phase{}", index + 1));
+  if (t.optional_choice("kind", {"standard", "geostatic"}).value_or("standard") == "geostatic") {
+    p.kind = MpmPhaseKind::geostatic;
+    if (std::none_of(c.regions.begin(), c.regions.end(), [](const MpmRegion& r) {
+          return r.initial_stress == MpmInitialStress::geostatic;
+        }))
+      throw t.error("kind",
+                    "not allowed: a geostatic phase resets the regions with "
+                    "initial_stress = \"geostatic\", and there are none");
+  }
   p.duration = t.number("duration_s", NumberRange::positive());
   p.gravity_multiplier =
       t.number_or("gravity_multiplier", solver.gravity_multiplier, NumberRange::non_negative());
@@ -203,6 +493,11 @@ MpmPhase read_phase(TableReader& t, const mpm::SolverSettings& solver, int index
       t.number_or("output_interval_s", p.duration, NumberRange::left_open(0.0, p.duration));
   p.energy_interval = t.number_or("energy_interval_s", p.output_interval / 10.0,
                                   NumberRange::left_open(0.0, p.duration));
+  p.traction_multiplier = t.number_or("traction_multiplier", 1.0, NumberRange::any());
+  p.checkpoint = t.boolean_or("checkpoint", true);
+  read_body_motions(t, c, p);
+  read_stop_rules(t, c, p);
+  read_material_changes(t, c, catalog, p);
   t.check_no_unknown_keys();
   return p;
 }
@@ -245,21 +540,22 @@ MpmCase read_mpm_case_text(std::string_view text, const std::string& source_name
                      "must be 0 in axisymmetry: the left side of the grid is the axis r = 0");
 
   c.boundaries.fill(mpm::BoundaryCondition::free);
-  if (std::optional<TableReader> sides = root.table("boundaries")) {
-    const char* names[4] = {"left", "right", "bottom", "top"};  // the order of mpm::Side
-    for (int s = 0; s < 4; ++s)
-      if (auto value = sides->optional_choice(names[s], kBoundaryNames))
-        c.boundaries[static_cast<std::size_t>(s)] = parse_boundary(*value);
-    sides->check_no_unknown_keys();
-  }
-
   c.solver = read_solver(root.table("solver"));
   c.solver.geometry = c.geometry;
+  if (std::optional<TableReader> sides = root.table("boundaries")) {
+    const char* names[4] = {"left", "right", "bottom", "top"};  // the order of mpm::Side
+    const mpm::Side order[4] = {mpm::Side::left, mpm::Side::right, mpm::Side::bottom,
+                                mpm::Side::top};
+    for (int s = 0; s < 4; ++s) read_side(*sides, order[s], names[s], c);
+    sides->check_no_unknown_keys();
+  }
 
   MaterialCatalog catalog;
   catalog.read(root);
 
   std::vector<TableReader> regions = root.tables("region");
+  std::vector<TableReader> bodies = root.tables("body");
+  std::vector<TableReader> tractions = root.tables("traction");
   std::vector<TableReader> phases = root.tables("phase");
   root.check_no_unknown_keys();
   if (regions.empty())
@@ -278,8 +574,16 @@ MpmCase read_mpm_case_text(std::string_view text, const std::string& source_name
     c.material_names.push_back(r.material.name);
     c.regions.push_back(std::move(r));
   }
+  for (std::size_t i = 0; i < bodies.size(); ++i) {
+    MpmBody b = read_body(bodies[i], c.geometry, static_cast<int>(i));
+    for (const MpmBody& other : c.bodies)
+      if (other.name == b.name)
+        throw bodies[i].error("name", "already used: bodies need distinct names");
+    c.bodies.push_back(std::move(b));
+  }
+  for (TableReader& t : tractions) c.tractions.push_back(read_traction(t, c.regions));
   for (std::size_t i = 0; i < phases.size(); ++i)
-    c.phases.push_back(read_phase(phases[i], c.solver, static_cast<int>(i)));
+    c.phases.push_back(read_phase(phases[i], c, catalog, static_cast<int>(i)));
   try {
     c.solver.validate();
   } catch (const InvalidValue& e) {
@@ -305,6 +609,36 @@ mpm::Grid make_mpm_grid(const MpmCase& c) {
   return grid;
 }
 
+namespace {
+
+// The geostatic state of one particle of region `r` at `position` under `gravity` = N g.
+void geostatic_state(const MpmCase& c, const MpmRegion& r, const ConstitutiveModel& model,
+                     const mpm::Vec2& position, double gravity, MaterialState& state) {
+  const auto* hypoplastic = dynamic_cast<const Hypoplastic*>(&model);
+  double mean = 0.0;
+  if (r.initial_stress == MpmInitialStress::geostatic) {
+    const double vertical = overburden(c, position.x(), position.y(), gravity);
+    state.stress = Vec6::Zero();
+    state.stress[k11] = -r.K0 * vertical;
+    state.stress[k22] = -vertical;
+    state.stress[k33] = -r.K0 * vertical;
+    mean = vertical * (1.0 + 2.0 * r.K0) / 3.0;
+  }
+  state.void_ratio = r.e0;
+  if (hypoplastic != nullptr) {
+    state.void_ratio = initial_void_ratio(hypoplastic->parameters(), r.e0, r.e0_at, mean);
+    state.intergranular_strain = Vec6::Zero();
+    if (hypoplastic->intergranular().enabled() && r.igs_compression)
+      state.intergranular_strain = -hypoplastic->intergranular().R / kSqrt3 * identity6();
+  }
+  if (hypoplastic != nullptr && (!std::isfinite(state.void_ratio) || state.void_ratio <= 0.0))
+    throw InputError(c.source, r.line, r.key + ".e0", fmt::format("{}", r.e0),
+                     fmt::format("gives the void ratio {} at p = {} kPa: must be > 0",
+                                 state.void_ratio, mean / kKPa));
+}
+
+}  // namespace
+
 mpm::Particles make_mpm_particles(const MpmCase& c, const mpm::Grid& grid) {
   mpm::Particles particles;
   const double gravity =
@@ -317,32 +651,32 @@ mpm::Particles make_mpm_particles(const MpmCase& c, const mpm::Grid& grid) {
     } catch (const InvalidValue& e) {
       throw InputError(c.source, r.line, r.key + "." + e.key(), e.value(), e.what());
     }
-    const auto* hypoplastic = dynamic_cast<const Hypoplastic*>(c.models[r.fill.material].get());
-    for (std::size_t p = first; p < particles.size(); ++p) {
-      MaterialState& state = particles.state[p];
-      double mean = 0.0;
-      if (r.initial_stress == MpmInitialStress::geostatic) {
-        const double vertical =
-            overburden(c, particles.position[p].x(), particles.position[p].y(), gravity);
-        state.stress = Vec6::Zero();
-        state.stress[k11] = -r.K0 * vertical;
-        state.stress[k22] = -vertical;
-        state.stress[k33] = -r.K0 * vertical;
-        mean = vertical * (1.0 + 2.0 * r.K0) / 3.0;
-      }
-      state.void_ratio = r.e0;
-      if (hypoplastic != nullptr) {
-        state.void_ratio = initial_void_ratio(hypoplastic->parameters(), r.e0, r.e0_at, mean);
-        if (hypoplastic->intergranular().enabled() && r.igs_compression)
-          state.intergranular_strain = -hypoplastic->intergranular().R / kSqrt3 * identity6();
-      }
-      if (!std::isfinite(state.void_ratio) || state.void_ratio <= 0.0)
-        throw InputError(c.source, r.line, r.key + ".e0", fmt::format("{}", r.e0),
-                         fmt::format("gives the void ratio {} at p = {} kPa: must be > 0",
-                                     state.void_ratio, mean / kKPa));
-    }
+    const ConstitutiveModel& model = *c.models[static_cast<std::size_t>(r.fill.material)];
+    for (std::size_t p = first; p < particles.size(); ++p)
+      geostatic_state(c, r, model, particles.position[p], gravity, particles.state[p]);
   }
   return particles;
+}
+
+void set_geostatic_state(const MpmCase& c, mpm::Solver& solver, double gravity) {
+  mpm::Particles& particles = solver.particles();
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const auto region = static_cast<std::size_t>(particles.material[p]);  // one model a region
+    const MpmRegion& r = c.regions.at(region);
+    if (r.initial_stress != MpmInitialStress::geostatic) continue;
+    geostatic_state(c, r, *solver.materials()[region], particles.position[p], gravity,
+                    particles.state[p]);
+    particles.velocity[p] = mpm::Vec2::Zero();
+  }
+}
+
+mpm::RigidBody make_rigid_body(const MpmBody& b) {
+  mpm::RigidBody body = b.kind == MpmBodyKind::pile
+                            ? mpm::RigidBody::pile(b.radius, b.tip_y, b.apex_angle)
+                            : mpm::RigidBody::polygon(b.vertices);
+  body.set_friction(b.friction);
+  body.set_contact_distance(b.contact_distance);
+  return body;
 }
 
 mpm::SolverSettings phase_settings(const MpmCase& c, const MpmPhase& phase) {
@@ -357,7 +691,9 @@ mpm::Solver make_mpm_solver(const MpmCase& c) {
   mpm::Particles particles = make_mpm_particles(c, grid);
   const mpm::SolverSettings settings =
       c.phases.empty() ? c.solver : phase_settings(c, c.phases.front());
-  return mpm::Solver(std::move(grid), std::move(particles), c.models, settings);
+  mpm::Solver solver(std::move(grid), std::move(particles), c.models, settings);
+  for (const MpmBody& b : c.bodies) solver.add_rigid_body(make_rigid_body(b));
+  return solver;
 }
 
 }  // namespace pilempm

@@ -1,9 +1,10 @@
 #pragma once
 // MPM case files (docs/mpm-case-files.md): the geometry, the background grid and its boundary
-// conditions, the solver settings, the materials ([[material]] tables read as in element case
-// files), rectangular regions filled with particles and their initial state, and the list of
-// phases. Reading is strict: an unknown key or a bad value is an InputError with the file, the
-// line, the key, the value and the allowed range. Everything returned is SI.
+// conditions (absorbing ones included), the solver settings, the materials ([[material]] tables
+// read as in element case files), rectangular regions filled with particles and their initial
+// state, rigid bodies, surface tractions, and the list of phases with their body motions, stop
+// rules and material changes. Reading is strict: an unknown key or a bad value is an InputError
+// with the file, the line, the key, the value and the allowed range. Everything returned is SI.
 #include <array>
 #include <filesystem>
 #include <optional>
@@ -21,8 +22,10 @@ namespace pilempm {
 
 /// The initial stress of a region.
 enum class MpmInitialStress {
-  zero,       ///< stress free
-  geostatic,  ///< σ_v = N g ∫ ρ dz of the regions above, σ_h = K0 σ_v (N of the first phase)
+  zero,  ///< stress free
+  /// σ_v = N g ∫ ρ dz of the regions above, σ_h = K0 σ_v (N of the first phase, and again at
+  /// the start of each geostatic phase with its N)
+  geostatic,
 };
 
 /// One rectangle of particles.
@@ -34,6 +37,7 @@ struct MpmRegion {
   mpm::RectangleFill fill;  ///< bounds, particles per cell, density; material index set
   MaterialSpec material;
   std::optional<IgsChoice> igs;  ///< hypoplastic only
+  bool igs_in_region = false;    ///< igs given in the region (kept when a phase changes sets)
   bool igs_compression = true;   ///< initial IGS fully mobilised by isotropic compression
   MpmInitialStress initial_stress = MpmInitialStress::zero;
   double K0 = 0.0;  ///< σ_h / σ_v of the geostatic stress [-]
@@ -41,14 +45,86 @@ struct MpmRegion {
   VoidRatioConvention e0_at = VoidRatioConvention::at_initial_stress;
 };
 
-/// One phase of the run: it ends at its start plus its duration.
+/// A rigid body: an axisymmetric pile or a plane-strain convex polygon.
+enum class MpmBodyKind { pile, polygon };
+
+struct MpmBody {
+  std::string name;
+  long line = 0;    ///< the line of its [[body]] header
+  std::string key;  ///< "body[i]", for messages
+  MpmBodyKind kind = MpmBodyKind::pile;
+  double radius = 0.0;              ///< pile [m]
+  double tip_y = 0.0;               ///< pile: height of the tip [m]
+  double apex_angle = 0.0;          ///< pile: full apex angle of the cone [rad]; π: flat tip
+  std::vector<mpm::Vec2> vertices;  ///< polygon [m]
+  double friction = 0.0;            ///< μ = tan δ [-]
+  double contact_distance = 0.0;    ///< [m]; 0: the solver's default
+};
+
+/// The rigid body at its initial position, at rest.
+mpm::RigidBody make_rigid_body(const MpmBody& body);
+
+/// A uniform traction on one side of a region, applied as dead-load point forces on the
+/// particles of the region's outermost row (column) on that side.
+struct MpmTraction {
+  long line = 0;
+  std::string key;  ///< "traction[i]"
+  int region = 0;   ///< index into MpmCase::regions
+  mpm::Side side = mpm::Side::top;
+  double normal = 0.0;  ///< [Pa], positive pushing into the region
+  double shear = 0.0;   ///< [Pa], positive along +x (bottom, top) or +y (left, right)
+};
+
+/// How a body moves in a phase: towards `velocity`, reached linearly over `ramp` from its
+/// velocity at the phase start, then constant.
+struct MpmBodyMotion {
+  mpm::Vec2 velocity = mpm::Vec2::Zero();  ///< [m/s]
+  double ramp = 0.0;                       ///< [s]
+};
+
+/// What a stop rule watches.
+enum class MpmStopQuantity {
+  displacement,        ///< the body's displacement since t = 0 reaches the value
+  phase_displacement,  ///< the body's displacement since the phase start reaches the value
+  force_below,         ///< the body's contact force (full body) falls below the value
+  force_above,         ///< the body's contact force (full body) rises above the value
+};
+
+/// One stop rule of a phase: the phase ends on the step where it is met.
+struct MpmStopRule {
+  std::string key;  ///< the case-file key, e.g. "stop_displacement_y_m" (named when it ends)
+  MpmStopQuantity quantity = MpmStopQuantity::displacement;
+  int component = 1;   ///< 0: x, 1: y
+  double value = 0.0;  ///< [m] or [N]
+};
+
+/// A new parameter set for one material model from a phase start on.
+struct MpmMaterialChange {
+  int model = 0;         ///< index into MpmCase::models (= the region index)
+  std::string material;  ///< the name of the new set
+  ModelPtr replacement;
+};
+
+enum class MpmPhaseKind {
+  standard,   ///< continues from the state the previous phase left
+  geostatic,  ///< first (re)sets the K0 stress of the geostatic regions under this phase's N g
+};
+
+/// One phase of the run: it ends at its start plus its duration, or earlier on a stop rule.
 struct MpmPhase {
   std::string name;
-  double duration = 0.0;            ///< [s]
-  double gravity_multiplier = 1.0;  ///< N [-]
-  double local_damping = 0.0;       ///< α [-]
-  double output_interval = 0.0;     ///< between VTU snapshots [s]
-  double energy_interval = 0.0;     ///< between rows of energies.csv [s]
+  MpmPhaseKind kind = MpmPhaseKind::standard;
+  double duration = 0.0;                   ///< the longest it runs [s]
+  double gravity_multiplier = 1.0;         ///< N [-]
+  double local_damping = 0.0;              ///< α [-]
+  double output_interval = 0.0;            ///< between VTU snapshots [s]
+  double energy_interval = 0.0;            ///< between rows of energies.csv and bodies.csv [s]
+  double traction_multiplier = 1.0;        ///< factor on all [[traction]] loads [-]
+  bool checkpoint = true;                  ///< write a checkpoint at the phase end
+  std::vector<MpmBodyMotion> body_motion;  ///< by body index
+  int stop_body = -1;                      ///< the body the stop rules watch (-1: none)
+  std::vector<MpmStopRule> stop_rules;
+  std::vector<MpmMaterialChange> material_changes;
 };
 
 struct MpmCase {
@@ -61,6 +137,8 @@ struct MpmCase {
   std::vector<std::string> material_names;  ///< index -> name (the regions' materials)
   std::vector<ModelPtr> models;             ///< index -> model
   std::vector<MpmRegion> regions;
+  std::vector<MpmBody> bodies;
+  std::vector<MpmTraction> tractions;
   std::vector<MpmPhase> phases;
 };
 
@@ -74,7 +152,13 @@ mpm::Grid make_mpm_grid(const MpmCase& mpm_case);
 /// The particles of all regions with their initial state (throws InputError at the region when
 /// a region cannot be filled or its initial void ratio is impossible).
 mpm::Particles make_mpm_particles(const MpmCase& mpm_case, const mpm::Grid& grid);
-/// The solver at time 0, with the [solver] settings and the first phase's gravity and damping.
+/// Sets the geostatic state of every particle of a region with initial_stress = "geostatic":
+/// σ_v = N g ∫ ρ dy of the regions above it, σ_h = σ_θθ = K0 σ_v, the void ratio from e0 by the
+/// region's convention (with the particle's current model), the intergranular strain as at the
+/// start, zero velocity. `gravity` is N g [m/s^2].
+void set_geostatic_state(const MpmCase& mpm_case, mpm::Solver& solver, double gravity);
+/// The solver at time 0, with the [solver] settings, the first phase's gravity and damping, and
+/// the rigid bodies (at rest).
 mpm::Solver make_mpm_solver(const MpmCase& mpm_case);
 /// The solver settings of a phase.
 mpm::SolverSettings phase_settings(const MpmCase& mpm_case, const MpmPhase& phase);

@@ -4,13 +4,19 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
+#include <sstream>
 
 #include "pilempm/constitutive/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/element_output.hpp"
+#include "pilempm/io/mpm_checkpoint.hpp"
+#include "pilempm/io/mpm_phase_control.hpp"
+#include "pilempm/io/mpm_tractions.hpp"
+#include "pilempm/io/text_escaping.hpp"
 
 namespace pilempm {
 
@@ -92,16 +98,89 @@ std::string mpm_energies_header(mpm::Geometry geometry) {
                         : "per metre of thickness (plane strain)";
   return fmt::format(
       "# energies in J {}; kinetic at the end of the step, the others accumulated since t = 0; "
-      "without damping kinetic + internal - external_work stays constant, with it kinetic + "
-      "internal + damping - external_work\n"
-      "time_s,step,dt_s,kinetic_J,internal_J,external_work_J,damping_J\n",
+      "kinetic + internal + damping + absorbed - external_work - contact_work stays constant "
+      "(contact_work: work of the rigid bodies on the soil; absorbed: by absorbing boundaries)\n"
+      "time_s,step,dt_s,kinetic_J,internal_J,external_work_J,damping_J,contact_work_J,"
+      "absorbed_J\n",
       per);
 }
 
 std::string mpm_energies_row(const mpm::Solver& solver, double time_step) {
   const mpm::Energies& e = solver.energies();
-  return fmt::format("{:.10g},{},{:.6g},{:.10g},{:.10g},{:.10g},{:.10g}\n", solver.time(),
-                     solver.steps(), time_step, e.kinetic, e.internal, e.external_work, e.damping);
+  return fmt::format("{:.10g},{},{:.6g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
+                     solver.time(), solver.steps(), time_step, e.kinetic, e.internal,
+                     e.external_work, e.damping, e.contact_work, e.absorbed);
+}
+
+namespace {
+
+// The surface part names of all bodies, in order of first appearance.
+std::vector<std::string> all_part_names(const mpm::Solver& solver) {
+  std::vector<std::string> names;
+  for (int b = 0; b < solver.rigid_body_count(); ++b)
+    for (const std::string& name : solver.rigid_body(b).part_names())
+      if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  return names;
+}
+
+// A part name as part of a column name: letters, digits and '_' ("edge 0" -> "edge_0").
+std::string column_word(const std::string& name) {
+  std::string word = name;
+  for (char& ch : word)
+    if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+  return word;
+}
+
+}  // namespace
+
+std::string mpm_bodies_header(const mpm::Solver& solver) {
+  const bool axisymmetric = solver.settings().geometry == mpm::Geometry::axisymmetric;
+  std::string header = fmt::format(
+      "# rigid bodies: displacement since t = 0, velocity, contact force of the soil on the body "
+      "over the last step in {} (+y up: a body pushed down into soil gets force_y > 0), in "
+      "total and per surface part\n",
+      axisymmetric ? "N of the full body (2 pi times the per-radian force; force_x = 0, the "
+                     "radial forces cancel around the axis)"
+                   : "N per metre of thickness (plane strain)");
+  header +=
+      "time_s,step,phase,body,displacement_x_m,displacement_y_m,velocity_x_m_per_s,"
+      "velocity_y_m_per_s,force_x_N,force_y_N";
+  for (const std::string& part : all_part_names(solver)) {
+    header += ",force_y_";
+    header += column_word(part);
+    header += "_N";
+  }
+  header += '\n';
+  return header;
+}
+
+std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::string>& body_names,
+                            const std::string& phase) {
+  const mpm::Geometry geometry = solver.settings().geometry;
+  const double factor = mpm_full_body_factor(geometry);
+  const double radial = geometry == mpm::Geometry::axisymmetric ? 0.0 : 1.0;
+  const std::vector<std::string> parts = all_part_names(solver);
+  std::string rows;
+  for (int b = 0; b < solver.rigid_body_count(); ++b) {
+    const mpm::RigidBody& body = solver.rigid_body(b);
+    const mpm::RigidBodyForce& force = solver.rigid_body_force(b);
+    rows += fmt::format(
+        "{:.10g},{},{},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", solver.time(),
+        solver.steps(), csv_field(phase), csv_field(body_names.at(static_cast<std::size_t>(b))),
+        body.displacement().x(), body.displacement().y(), body.velocity().x(), body.velocity().y(),
+        radial * factor * force.total.x(), factor * force.total.y());
+    const std::vector<std::string>& own = body.part_names();
+    for (const std::string& part : parts) {
+      rows += ',';
+      const auto at = std::find(own.begin(), own.end(), part);
+      if (at == own.end()) continue;
+      const auto index = static_cast<std::size_t>(at - own.begin());
+      if (index < force.parts.size())
+        rows += fmt::format("{:.10g}", factor * force.parts[index].y());
+    }
+    rows += '\n';
+  }
+  return rows;
 }
 
 MpmProgress::MpmProgress(std::ostream* out, double total_time, double min_interval_s)
@@ -128,88 +207,209 @@ void MpmProgress::update(const std::string& phase, double phase_end, const mpm::
         << std::flush;
 }
 
+std::string mpm_checkpoint_name(std::size_t phases_done, const std::string& phase) {
+  std::string name = phase;
+  for (char& ch : name)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_' && ch != '.')
+      ch = '_';
+  return fmt::format("checkpoint_{:02d}_{}.h5", phases_done, name);
+}
+
+namespace {
+
+// The records of a checkpoint: the output text so far and the snapshot series.
+constexpr const char* kEnergiesRecord = "energies.csv";
+constexpr const char* kBodiesRecord = "bodies.csv";
+constexpr const char* kSeriesRecord = "particles.pvd";  // "time<TAB>file relative to the folder"
+
+}  // namespace
+
 MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_dir,
-                           std::ostream* progress_stream) {
+                           std::ostream* progress_stream, const std::filesystem::path& restart) {
   prepare_output_directory(out_dir);
   mpm::Solver solver = make_mpm_solver(c);
-  const std::vector<mpm::Vec2> initial_position = solver.particles().position;
+  const std::vector<mpm::Vec2> traction_forces =
+      c.tractions.empty() ? std::vector<mpm::Vec2>{} : mpm_traction_forces(c, solver.particles());
+  std::vector<mpm::Vec2> initial_position = solver.particles().position;
   std::vector<int> material_index;
   std::map<std::string, int> distinct;
   for (const std::string& name : c.material_names)
     material_index.push_back(
         distinct.emplace(name, static_cast<int>(distinct.size())).first->second);
+  std::vector<std::string> body_names;
+  for (const MpmBody& b : c.bodies) body_names.push_back(b.name);
+  const bool with_bodies = !c.bodies.empty();
 
   MpmRunSummary summary;
   summary.pvd_file = out_dir / "particles.pvd";
   summary.energies_file = out_dir / "energies.csv";
-  PvdSeries series(summary.pvd_file);
-  std::string energies =
-      mpm_energies_header(c.geometry) + mpm_energies_row(solver, solver.next_time_step());
+  if (with_bodies) summary.bodies_file = out_dir / "bodies.csv";
+  const std::filesystem::path absolute_out = std::filesystem::absolute(out_dir);
+  PvdSeries series(absolute_out / "particles.pvd");
+  std::vector<std::pair<double, std::filesystem::path>> series_entries;  // for checkpoints
+  std::string energies = mpm_energies_header(c.geometry);
+  std::string bodies = with_bodies ? mpm_bodies_header(solver) : std::string();
+  std::size_t vtu_count = 0;
+
+  if (!restart.empty()) {
+    // The case's solver takes the checkpoint's state; the material sets of the phases before
+    // apply. (The next phase's settings are set by the loop below: the checkpoint is taken at
+    // a phase end, and a phase start forgets the cached wave speeds either way.)
+    const MpmCheckpointInfo info = read_mpm_checkpoint(restart, solver);
+    if (info.next_phase < 1 || static_cast<std::size_t>(info.next_phase) >= c.phases.size())
+      throw InputError(restart.string(), 0, "--restart", restart.string(),
+                       fmt::format("holds the state after {} phase(s), and the case has {}: "
+                                   "nothing left to run",
+                                   info.next_phase, c.phases.size()));
+    summary.first_phase = static_cast<std::size_t>(info.next_phase);
+    if (progress_stream != nullptr && info.threads > 0 && info.threads != solver.threads())
+      *progress_stream << fmt::format(
+          "mpm: the checkpoint was written with {} thread(s), this run has {}: it continues to "
+          "round-off, not bitwise\n",
+          info.threads, solver.threads());
+    for (std::size_t k = 0; k < summary.first_phase; ++k)
+      for (const MpmMaterialChange& change : c.phases[k].material_changes)
+        solver.set_material(change.model, change.replacement);
+    if (info.initial_position.size() == initial_position.size())
+      initial_position = info.initial_position;
+    auto record = [&](const char* name) {
+      const auto at = info.records.find(name);
+      return at == info.records.end() ? std::string() : at->second;
+    };
+    if (!record(kEnergiesRecord).empty()) energies = record(kEnergiesRecord);
+    if (with_bodies && !record(kBodiesRecord).empty()) bodies = record(kBodiesRecord);
+    const std::filesystem::path from = std::filesystem::absolute(restart).parent_path();
+    std::istringstream entries(record(kSeriesRecord));
+    std::string line;
+    while (std::getline(entries, line)) {
+      const auto tab = line.find('\t');
+      if (tab == std::string::npos) continue;
+      const double time = std::stod(line.substr(0, tab));
+      const std::filesystem::path file = (from / line.substr(tab + 1)).lexically_normal();
+      series.add(time, file);
+      series_entries.emplace_back(time, file);
+    }
+    vtu_count = series_entries.size();
+  }
   double total_time = 0.0;
   for (const MpmPhase& phase : c.phases) total_time += phase.duration;
   MpmProgress progress(progress_stream, total_time);
 
+  auto write_records = [&] {
+    write_file_atomically(summary.energies_file, energies);
+    if (with_bodies) write_file_atomically(summary.bodies_file, bodies);
+  };
+  double last_rows = -1.0;
+  auto add_rows = [&](const std::string& phase) {
+    if (solver.time() == last_rows) return;
+    last_rows = solver.time();
+    energies += mpm_energies_row(solver, solver.next_time_step());
+    if (with_bodies) bodies += mpm_bodies_rows(solver, body_names, phase);
+  };
   double last_snapshot = -1.0;
   auto snapshot = [&] {
     if (solver.time() == last_snapshot) return;
     last_snapshot = solver.time();
-    const std::filesystem::path file =
-        out_dir / fmt::format("particles_{:05d}.vtu", summary.vtu_files.size());
+    const std::string name = fmt::format("particles_{:05d}.vtu", vtu_count++);
+    const std::filesystem::path file = out_dir / name;
     write_vtu(file, mpm_particle_cloud(solver, initial_position, material_index));
-    series.add(solver.time(), file);
+    series.add(solver.time(), absolute_out / name);
+    series_entries.emplace_back(solver.time(), absolute_out / name);
     series.write();
-    write_file_atomically(summary.energies_file, energies);
+    write_records();
     summary.vtu_files.push_back(file);
   };
-  snapshot();
+  auto checkpoint = [&](std::size_t phases_done, const std::string& phase) {
+    MpmCheckpointInfo info;
+    info.case_source = c.source;
+    info.next_phase = static_cast<int>(phases_done);
+    info.phase_start = solver.time();
+    info.initial_position = initial_position;
+    info.records[kEnergiesRecord] = energies;
+    if (with_bodies) info.records[kBodiesRecord] = bodies;
+    std::string entries;
+    for (const auto& [time, file] : series_entries) {
+      entries += fmt::format("{:.17g}\t", time);
+      entries += file.lexically_relative(absolute_out).generic_string();
+      entries += '\n';
+    }
+    info.records[kSeriesRecord] = entries;
+    const std::filesystem::path file = out_dir / mpm_checkpoint_name(phases_done, phase);
+    write_mpm_checkpoint(file, solver, info);
+    summary.checkpoints.push_back(file);
+  };
+  if (restart.empty()) {
+    add_rows(c.phases.front().name);
+    snapshot();
+  } else {
+    // The checkpoint's records end with the rows and the snapshot of this time.
+    last_rows = last_snapshot = solver.time();
+    series.write();
+    write_records();
+  }
 
-  double phase_start = 0.0;
-  for (const MpmPhase& phase : c.phases) {
-    const double phase_end = phase_start + phase.duration;
-    const double tolerance = 1e-6 * std::min(phase.energy_interval, phase.output_interval);
-    // The k-th time of a series in this phase (counted, not summed, so that it does not drift);
-    // one within the tolerance of the phase end is the phase end.
-    auto series_time = [&](double interval, long k) {
-      const double t = phase_start + static_cast<double>(k) * interval;
-      return t >= phase_end - tolerance ? phase_end : t;
-    };
+  for (std::size_t k = summary.first_phase; k < c.phases.size(); ++k) {
+    const MpmPhase& phase = c.phases[k];
+    MpmPhaseEnd end;
+    end.phase = phase.name;
     try {
       solver.set_settings(phase_settings(c, phase));
+      MpmPhaseControl control(c, k, solver);
+      control.start(traction_forces);
+      const double phase_start = control.start_time();
+      const double phase_end = control.end_time();
+      const double tolerance = 1e-6 * std::min(phase.energy_interval, phase.output_interval);
+      // The k-th time of a series in this phase (counted, not summed, so that it does not
+      // drift); one within the tolerance of the phase end is the phase end.
+      auto series_time = [&](double interval, long count) {
+        const double t = phase_start + static_cast<double>(count) * interval;
+        return t >= phase_end - tolerance ? phase_end : t;
+      };
       long output_count = 1, energy_count = 1;
-      for (;;) {
+      end.reason = control.stop_reason();  // met at the start already
+      while (end.reason.empty()) {
         const double next_output = series_time(phase.output_interval, output_count);
         const double next_energy = series_time(phase.energy_interval, energy_count);
         const double target = std::min(next_output, next_energy);
-        // Steps of the solver's own length, then one that lands on the target.
-        for (;;) {
-          if (solver.time() + solver.next_time_step() >= target) {
-            solver.run_until(target);
-            break;
-          }
+        const MpmStepPlan plan = control.plan_step(target);
+        if (plan.own_step)
           solver.step();
-          progress.update(phase.name, phase_end, solver);
-        }
+        else
+          solver.run_until(plan.end);
+        progress.update(phase.name, phase_end, solver);
+        end.reason = control.stop_reason(plan.landing_rule);
+        if (!end.reason.empty() || plan.own_step || plan.landing_rule >= 0) continue;
+        // At the target time.
         if (next_energy == target) {
-          energies += mpm_energies_row(solver, solver.next_time_step());
+          add_rows(phase.name);
           ++energy_count;
         }
         if (next_output == target) {
           snapshot();
           ++output_count;
         }
-        if (target == phase_end) break;
+        if (target == phase_end) end.reason = "duration_s";
       }
+      add_rows(phase.name);
+      snapshot();
     } catch (const InputError&) {
       throw;
     } catch (const Error& e) {
-      write_file_atomically(summary.energies_file, energies);
+      write_records();
       throw Error(
           fmt::format("phase \"{}\" at t = {:.6g} s: {}", phase.name, solver.time(), e.what()));
     }
-    progress.update(phase.name, phase_end, solver, /*force=*/true);
-    phase_start = phase_end;
+    if (phase.checkpoint) checkpoint(k + 1, phase.name);
+    end.time = solver.time();
+    end.steps = solver.steps();
+    progress.update(phase.name, end.time, solver, /*force=*/true);
+    if (progress_stream != nullptr)
+      *progress_stream << fmt::format("mpm: phase {} ended at t = {:.6g} s, step {}: {}\n",
+                                      phase.name, end.time, end.steps, end.reason)
+                       << std::flush;
+    summary.phase_ends.push_back(std::move(end));
   }
-  write_file_atomically(summary.energies_file, energies);
+  write_records();
   summary.steps = solver.steps();
   summary.time = solver.time();
   summary.wall_seconds = progress.wall_seconds();

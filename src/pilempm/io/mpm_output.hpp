@@ -1,7 +1,8 @@
 #pragma once
 // Output of MPM runs (docs/mpm-case-files.md, "Output"): a VTU snapshot of the particles per
 // output time with a ParaView series (particles.pvd), the energy account as CSV
-// (energies.csv), and a progress line on stderr. Files are written atomically.
+// (energies.csv), the rigid bodies' motion and forces as CSV (bodies.csv), and a progress line
+// on stderr; and the run loop over the phases of a case. Files are written atomically.
 #include <chrono>
 #include <filesystem>
 #include <ostream>
@@ -26,6 +27,16 @@ std::string mpm_energies_header(mpm::Geometry geometry);
 /// One row of energies.csv; `time_step` is the step the solver takes from there (CFL) [s].
 std::string mpm_energies_row(const mpm::Solver& solver, double time_step);
 
+/// The header of bodies.csv (a comment line with the units, then the column names): one
+/// force_y_<part>_N column per surface part name of the solver's bodies.
+std::string mpm_bodies_header(const mpm::Solver& solver);
+/// One row per body of bodies.csv at the solver's time; `body_names` by body index, `phase` the
+/// name of the phase. Forces are those of the full body in axisymmetry (2π times the solver's
+/// per-radian force; the radial force_x is 0: it cancels around the axis), per metre in plane
+/// strain.
+std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::string>& body_names,
+                            const std::string& phase);
+
 /// A progress line on a stream, at most one per `min_interval` of wall time.
 class MpmProgress {
  public:
@@ -43,19 +54,40 @@ class MpmProgress {
   double last_print_ = 0.0;  // the first line after one interval
 };
 
+/// How a phase of a run ended.
+struct MpmPhaseEnd {
+  std::string phase;
+  double time = 0.0;   ///< [s]
+  long steps = 0;      ///< the solver's step count then
+  std::string reason;  ///< "duration_s" or the stop rule met, with the value reached
+};
+
 /// What a run did.
 struct MpmRunSummary {
   long steps = 0;
   double time = 0.0;
   double wall_seconds = 0.0;
-  std::vector<std::filesystem::path> vtu_files;
-  std::filesystem::path pvd_file, energies_file;
+  std::vector<std::filesystem::path> vtu_files;                ///< written by this run
+  std::filesystem::path pvd_file, energies_file, bodies_file;  ///< bodies_file: empty if none
+  std::vector<MpmPhaseEnd> phase_ends;             ///< the phases this run ran, in order
+  std::vector<std::filesystem::path> checkpoints;  ///< written by this run
+  std::size_t first_phase = 0;                     ///< > 0 when restarted
 };
 
 /// Runs the phases of a case, writing into `out_dir` (created if needed): particles_NNNNN.vtu,
-/// particles.pvd, energies.csv. Progress lines go to `progress` (nullptr: none). Throws Error
-/// naming the phase when the solver fails; what was written up to then stays valid.
+/// particles.pvd, energies.csv, with rigid bodies bodies.csv, and at the end of each phase that
+/// asks for it checkpoint_NN_<phase>.h5 (NN: the number of phases done). Progress lines and the
+/// end of each phase go to `progress` (nullptr: none). With `restart` (a checkpoint file), the
+/// run continues from it with the case's phases from the checkpoint's next phase on and the
+/// case's materials (with the material changes of the phases before), and its output files
+/// start with the records the checkpoint holds. Throws Error naming the phase when the solver
+/// fails; what was written up to then stays valid.
 MpmRunSummary run_mpm_case(const MpmCase& mpm_case, const std::filesystem::path& out_dir,
-                           std::ostream* progress);
+                           std::ostream* progress, const std::filesystem::path& restart = {});
+
+/// The file name of the checkpoint after `phases_done` phases, the last one named `phase`:
+/// checkpoint_NN_<phase>.h5 with characters other than letters, digits, '-', '_' and '.'
+/// replaced by '_'.
+std::string mpm_checkpoint_name(std::size_t phases_done, const std::string& phase);
 
 }  // namespace pilempm

@@ -1,0 +1,124 @@
+// Phase control of MPM runs: see mpm_phase_control.hpp.
+#include "pilempm/io/mpm_phase_control.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "pilempm/core/tensor.hpp"
+
+namespace pilempm {
+
+double mpm_full_body_factor(mpm::Geometry geometry) {
+  return geometry == mpm::Geometry::axisymmetric ? 2.0 * kPi : 1.0;
+}
+
+MpmPhaseControl::MpmPhaseControl(const MpmCase& c, std::size_t index, mpm::Solver& solver)
+    : case_(c), phase_(c.phases.at(index)), solver_(solver), start_time_(solver.time()) {
+  for (int b = 0; b < solver.rigid_body_count(); ++b) {
+    start_velocity_.push_back(solver.rigid_body(b).velocity());
+    start_displacement_.push_back(solver.rigid_body(b).displacement());
+  }
+  for (const MpmStopRule& rule : phase_.stop_rules) {
+    double sense = 0.0;
+    if (rule.quantity == MpmStopQuantity::displacement ||
+        rule.quantity == MpmStopQuantity::phase_displacement) {
+      const double now =
+          start_displacement_.at(static_cast<std::size_t>(phase_.stop_body))[rule.component];
+      sense = goal(rule) >= now ? 1.0 : -1.0;
+    }
+    sense_.push_back(sense);
+  }
+}
+
+double MpmPhaseControl::goal(const MpmStopRule& rule) const {
+  if (rule.quantity == MpmStopQuantity::phase_displacement)
+    return start_displacement_.at(static_cast<std::size_t>(phase_.stop_body))[rule.component] +
+           rule.value;
+  return rule.value;
+}
+
+void MpmPhaseControl::start(const std::vector<mpm::Vec2>& traction_forces) {
+  for (const MpmMaterialChange& change : phase_.material_changes)
+    solver_.set_material(change.model, change.replacement);
+  mpm::Particles& particles = solver_.particles();
+  if (!traction_forces.empty())
+    for (std::size_t p = 0; p < particles.size(); ++p)
+      particles.external_force[p] = phase_.traction_multiplier * traction_forces.at(p);
+  if (phase_.kind == MpmPhaseKind::geostatic)
+    set_geostatic_state(case_, solver_, solver_.settings().gravity * phase_.gravity_multiplier);
+}
+
+mpm::Vec2 MpmPhaseControl::velocity_at(std::size_t body, double time) const {
+  const MpmBodyMotion& motion = phase_.body_motion.at(body);
+  if (motion.ramp <= 0.0) return motion.velocity;
+  const double f = std::clamp((time - start_time_) / motion.ramp, 0.0, 1.0);
+  return start_velocity_[body] + f * (motion.velocity - start_velocity_[body]);
+}
+
+MpmStepPlan MpmPhaseControl::plan_step(double target) {
+  const double now = solver_.time();
+  const double dt = solver_.next_time_step();
+  MpmStepPlan plan;
+  plan.own_step = now + dt < target;
+  plan.end = plan.own_step ? now + dt : target;
+  auto set_velocities = [&](double length) {
+    for (std::size_t b = 0; b < start_velocity_.size(); ++b)
+      solver_.rigid_body(static_cast<int>(b)).set_velocity(velocity_at(b, now + 0.5 * length));
+  };
+  set_velocities(plan.end - now);
+
+  // A displacement rule met within this step: shorten it to land on the goal exactly.
+  for (std::size_t k = 0; k < phase_.stop_rules.size(); ++k) {
+    const MpmStopRule& rule = phase_.stop_rules[k];
+    if (sense_[k] == 0.0) continue;
+    mpm::RigidBody& body = solver_.rigid_body(phase_.stop_body);
+    const double remaining = goal(rule) - body.displacement()[rule.component];
+    const double speed = body.velocity()[rule.component];
+    const double length = plan.end - now;
+    if (remaining * sense_[k] <= 0.0 || speed * remaining <= 0.0) continue;
+    if (std::abs(speed) * length < std::abs(remaining)) continue;
+    const double shortened = remaining / speed;
+    plan.own_step = false;
+    plan.end = now + shortened;
+    plan.landing_rule = static_cast<int>(k);
+    set_velocities(shortened);
+    mpm::Vec2 v = body.velocity();
+    v[rule.component] = remaining / shortened;  // exactly onto the goal
+    body.set_velocity(v);
+  }
+  return plan;
+}
+
+std::string MpmPhaseControl::stop_reason(int landing_rule) const {
+  if (phase_.stop_body < 0) return "";
+  const MpmBody& b = case_.bodies.at(static_cast<std::size_t>(phase_.stop_body));
+  const mpm::RigidBody& body = solver_.rigid_body(phase_.stop_body);
+  const char* axis[2] = {"x", "y"};
+  for (std::size_t k = 0; k < phase_.stop_rules.size(); ++k) {
+    const MpmStopRule& rule = phase_.stop_rules[k];
+    const int i = rule.component;
+    if (sense_[k] != 0.0) {
+      const double d = body.displacement()[i];
+      const double g = goal(rule);
+      const double tolerance =
+          1e-9 * std::abs(g - start_displacement_[static_cast<std::size_t>(phase_.stop_body)][i]);
+      if (static_cast<int>(k) == landing_rule || (d - g) * sense_[k] >= -tolerance)
+        return fmt::format("{} = {:.6g}: {} displacement {} = {:.6g} m", rule.key, rule.value,
+                           b.name, axis[i], d);
+      continue;
+    }
+    if (solver_.time() <= start_time_) continue;  // no step of this phase yet
+    const double force =
+        solver_.rigid_body_force(phase_.stop_body).total[i] * mpm_full_body_factor(case_.geometry);
+    const bool met =
+        rule.quantity == MpmStopQuantity::force_below ? force < rule.value : force > rule.value;
+    if (met)
+      return fmt::format("{} = {:.6g}: {} force {} = {:.6g} N", rule.key, rule.value, b.name,
+                         axis[i], force);
+  }
+  return "";
+}
+
+}  // namespace pilempm

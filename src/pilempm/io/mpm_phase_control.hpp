@@ -1,0 +1,62 @@
+#pragma once
+// What a phase of an MPM case does besides stepping (docs/mpm-case-files.md, [[phase]]): at its
+// start, the new material sets, the traction loads and the geostatic stress; during it, the
+// rigid bodies' velocities (with their ramps) and the stop rules, including a last step
+// shortened so that a displacement rule is met exactly.
+#include <string>
+#include <vector>
+
+#include "pilempm/io/mpm_case.hpp"
+#include "pilempm/mpm/solver.hpp"
+
+namespace pilempm {
+
+/// Full-body force per solver force: 2π in axisymmetry (the solver's is per radian), 1 in plane
+/// strain (per metre).
+double mpm_full_body_factor(mpm::Geometry geometry);
+
+/// The next step of a phase as planned by MpmPhaseControl::plan_step.
+struct MpmStepPlan {
+  bool own_step = true;   ///< take the solver's own step (step()); else run_until(end)
+  double end = 0.0;       ///< the time the step ends at [s]
+  int landing_rule = -1;  ///< the displacement rule it was shortened to meet exactly (-1: none)
+};
+
+class MpmPhaseControl {
+ public:
+  /// Phase `index` of the case, starting at the solver's current time and state (after a
+  /// checkpoint has been read, on a restart). The solver's settings are set by the caller.
+  MpmPhaseControl(const MpmCase& mpm_case, std::size_t index, mpm::Solver& solver);
+
+  const MpmPhase& phase() const { return phase_; }
+  double start_time() const { return start_time_; }
+  /// The latest end: the start plus the duration [s].
+  double end_time() const { return start_time_ + phase_.duration; }
+
+  /// The start of the phase: the material changes, the tractions (`traction_forces` at
+  /// multiplier 1, one per particle, times the phase's multiplier) and, in a geostatic phase,
+  /// the geostatic state.
+  void start(const std::vector<mpm::Vec2>& traction_forces);
+
+  /// Plans the next step towards `target` (<= end_time()) and sets the bodies' velocities for it.
+  MpmStepPlan plan_step(double target);
+
+  /// After a step (or at the start): whether a stop rule is met, and a description of it
+  /// ("stop_displacement_y_m = -0.05: pile displacement y = -0.05 m"); "" when none.
+  /// `landing_rule`: the plan's, when the step was taken.
+  std::string stop_reason(int landing_rule = -1) const;
+
+ private:
+  mpm::Vec2 velocity_at(std::size_t body, double time) const;
+  double goal(const MpmStopRule& rule) const;
+
+  const MpmCase& case_;
+  const MpmPhase& phase_;
+  mpm::Solver& solver_;
+  double start_time_ = 0.0;
+  std::vector<mpm::Vec2> start_velocity_;      // by body
+  std::vector<mpm::Vec2> start_displacement_;  // by body
+  std::vector<double> sense_;                  // by stop rule: +1 / -1 towards a displacement
+};
+
+}  // namespace pilempm

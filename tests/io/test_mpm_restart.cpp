@@ -1,0 +1,153 @@
+// Checkpoints and restarts of MPM runs: a run restarted from the checkpoint of its first phase
+// ends with the same output as the run that went through, and a restart may use a case whose
+// later phases differ.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "pilempm/core/error.hpp"
+#include "pilempm/io/mpm_case.hpp"
+#include "pilempm/io/mpm_output.hpp"
+
+namespace pilempm {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A plate pushed into an elastic block under a surcharge, then lifted; the second phase
+// switches to a stiffer set.
+const char* const kCase = R"([geometry]
+kind = "plane-strain"
+[grid.x]
+spacing = "uniform"
+min_m = 0.0
+max_m = 1.0
+cells = 10
+[grid.y]
+spacing = "uniform"
+min_m = 0.0
+max_m = 1.0
+cells = 10
+[boundaries]
+left = "roller"
+right = "roller"
+bottom = "fixed"
+[solver]
+local_damping = 0.1
+threads = 1
+[[material]]
+name = "soft"
+model = "linear-elastic"
+young_modulus_MPa = 10.0
+poisson_ratio = 0.3
+[[material]]
+name = "stiff"
+model = "linear-elastic"
+young_modulus_MPa = 20.0
+poisson_ratio = 0.3
+[[region]]
+name = "block"
+x_min_m = 0.0
+x_max_m = 1.0
+y_min_m = 0.0
+y_max_m = 0.5
+particles_per_cell = 2
+density_kg_per_m3 = 2000.0
+material = "soft"
+initial_stress = "geostatic"
+[[traction]]
+region = "block"
+side = "top"
+normal_kPa = 5.0
+[[body]]
+name = "plate"
+kind = "polygon"
+vertices_m = [[0.3, 0.5], [0.7, 0.5], [0.7, 0.6], [0.3, 0.6]]
+interface_friction_angle_deg = 20.0
+[[phase]]
+name = "push"
+duration_s = 0.05
+output_interval_s = 0.025
+energy_interval_s = 0.005
+[phase.body.plate]
+velocity_y_m_per_s = -0.1
+[[phase]]
+name = "lift"
+duration_s = 0.5
+energy_interval_s = 0.005
+stop_force_y_below_N = 1000.0
+[phase.body.plate]
+velocity_y_m_per_s = 0.1
+[phase.materials]
+soft = "stiff"
+)";
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("pilempm-mpm-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+TEST(MpmRestart, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
+  const MpmCase c = read_mpm_case_text(kCase, "case.toml");
+  const fs::path whole = temp_dir("whole");
+  const MpmRunSummary full = run_mpm_case(c, whole, nullptr);
+  ASSERT_EQ(full.checkpoints.size(), 2u);
+  EXPECT_EQ(full.checkpoints[0].filename(), "checkpoint_01_push.h5");
+  EXPECT_EQ(full.checkpoints[1].filename(), "checkpoint_02_lift.h5");
+  ASSERT_TRUE(fs::exists(full.checkpoints[0]));
+  ASSERT_EQ(full.phase_ends.size(), 2u);
+  EXPECT_NE(full.phase_ends[1].reason.find("stop_force_y_below_N"), std::string::npos);
+
+  const fs::path second = temp_dir("restarted");
+  const MpmRunSummary part = run_mpm_case(c, second, nullptr, full.checkpoints[0]);
+  EXPECT_EQ(part.first_phase, 1u);
+  ASSERT_EQ(part.phase_ends.size(), 1u);
+  EXPECT_EQ(part.phase_ends[0].phase, "lift");
+  EXPECT_EQ(part.steps, full.steps);
+  EXPECT_EQ(part.time, full.time);
+  EXPECT_EQ(read_text(second / "energies.csv"), read_text(whole / "energies.csv"));
+  EXPECT_EQ(read_text(second / "bodies.csv"), read_text(whole / "bodies.csv"));
+  // The series lists the earlier snapshots (in the first run's folder) and the new ones.
+  const std::string pvd = read_text(second / "particles.pvd");
+  EXPECT_NE(pvd.find("pilempm-mpm-whole-"), std::string::npos) << pvd;
+  EXPECT_NE(pvd.find("file=\"particles_00003.vtu\""), std::string::npos) << pvd;
+  EXPECT_FALSE(fs::exists(second / "particles_00000.vtu"));
+  EXPECT_EQ(full.vtu_files.size(), part.vtu_files.size() + 3);  // t = 0, 0.025, 0.05 before
+
+  // A restart after the last phase has nothing to run.
+  try {
+    run_mpm_case(c, second, nullptr, full.checkpoints[1]);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("nothing left to run"), std::string::npos) << e.what();
+  }
+
+  // A case whose second phase differs: pushed further instead of lifted.
+  std::string text = kCase;
+  text.replace(text.find("velocity_y_m_per_s = 0.1"), 24, "velocity_y_m_per_s = -0.1");
+  text.replace(text.find("stop_force_y_below_N = 1000.0"), 29,
+               "stop_phase_displacement_y_m = -0.002");
+  const MpmCase changed = read_mpm_case_text(text, "changed.toml");
+  const fs::path third = temp_dir("changed");
+  const MpmRunSummary other = run_mpm_case(changed, third, nullptr, full.checkpoints[0]);
+  ASSERT_EQ(other.phase_ends.size(), 1u);
+  EXPECT_NE(other.phase_ends[0].reason.find("displacement y = -0.007 m"), std::string::npos)
+      << other.phase_ends[0].reason;
+  for (const fs::path& dir : {whole, second, third}) fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace pilempm
