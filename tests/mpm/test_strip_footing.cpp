@@ -1,18 +1,20 @@
-// Strip footing on undrained (φ = 0) Mohr-Coulomb soil: a rigid, smooth footing of width B pushed
-// into a weightless Tresca layer reaches Prandtl's bearing pressure q_u = (2 + π) c (Prandtl 1920;
-// the exact limit load of a rigid-perfectly plastic half-space under a smooth strip). Half model in
-// plane strain: the symmetry plane x = 0 is a roller, the footing a rigid polygon from x = -h to
-// B/2 moved down at a constant slow speed; the pressure is the contact force over B/2.
+// Strip footing on undrained (φ = 0) Mohr-Coulomb soil: Prandtl's (1920) collapse pressure of a
+// uniformly loaded strip on a weightless, rigid-perfectly plastic Tresca half-space is
+// q_u = (2 + π) c (the same for a smooth rigid footing). Half model in plane strain, the symmetry
+// plane x = 0 a roller; the pressure acts as point loads on the top particle row under the strip,
+// rises linearly and is then held, with local damping for a quasi-static response.
 //
-// Without the volumetric-locking remedy the isochoric plastic flow (ψ = 0) locks the mesh and the
-// pressure overshoots the limit; with it the pressure levels off at the limit.
+// The load is applied as a pressure, not by a rigid footing pushed through contact: the nodal
+// contact takes in the next node row below the footing every half cell of settlement, and the
+// pressure jumps by about 20 % between such events (docs/verification.md), which is a limit of
+// the contact, not of the soil model tested here.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include "pilempm/constitutive/mohr_coulomb.hpp"
@@ -89,15 +91,24 @@ FootingSettlement load_strip(double h, double pressure, bool smoothing) {
 }
 
 // A uniform pressure on a strip of weightless Tresca soil: below Prandtl's (2 + π) c the soil
-// carries it (the settlement stops), above it a mechanism forms and the settlement runs on.
+// carries it (the settlement stops), above it a mechanism forms and the settlement runs on. So
+// the collapse load lies within ±5 % of (2 + π) c when the strip stands at 0.95 q_u and fails at
+// 1.05 q_u. Without the smoothing the mesh locks partly and settles much less above the limit.
 TEST(StripFooting, FlexibleStripCollapsesAtPrandtlsLoad) {
   const double h = 0.05;
   const double prandtl = (2.0 + std::numbers::pi) * kCohesion;
-  for (const double factor : {0.9, 0.95, 1.05, 1.1}) {
-    const FootingSettlement s = load_strip(h, factor * prandtl, true);
-    std::printf("q = %.2f q_u: settlement %.5f m after the ramp, %.5f m after the hold\n", factor,
+  const FootingSettlement below = load_strip(h, 0.95 * prandtl, true);
+  const FootingSettlement above = load_strip(h, 1.05 * prandtl, true);
+  const FootingSettlement locked = load_strip(h, 1.05 * prandtl, false);
+  for (const auto& [name, s] : {std::pair{"0.95 q_u", below}, std::pair{"1.05 q_u", above},
+                                std::pair{"1.05 q_u without smoothing", locked}})
+    std::printf("strip at %s: settlement %.5f m after the ramp, %.5f m after the hold\n", name,
                 s.after_ramp, s.after_hold);
-  }
+  // Measured (h = 0.05 m): the hold adds 0.28 mm at 0.95 q_u (1.6 % of the settlement), 31 mm at
+  // 1.05 q_u (160 %); without smoothing 9.6 mm at 1.05 q_u.
+  EXPECT_LT(below.after_hold - below.after_ramp, 0.05 * below.after_ramp);
+  EXPECT_GT(above.after_hold - above.after_ramp, 0.5 * above.after_ramp);
+  EXPECT_LT(locked.after_hold - locked.after_ramp, 0.5 * (above.after_hold - above.after_ramp));
 }
 
 }  // namespace
