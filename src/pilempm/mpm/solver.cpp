@@ -507,6 +507,7 @@ void Solver::apply_contact(double dt, bool forces) {
   const GridAxis& x_axis = grid_.x_axis();
   const GridAxis& y_axis = grid_.y_axis();
   const int nx = grid_.nx();
+  const double alpha = settings_.local_damping;
   for (std::size_t b = 0; b < rigid_bodies_.size(); ++b) {
     const RigidBody& body = rigid_bodies_[b];
     RigidBodyForce& force = rigid_body_forces_[b];
@@ -532,7 +533,24 @@ void Solver::apply_contact(double dt, bool forces) {
         if (mass <= 0.0) continue;
         const SurfaceQuery surface = body.query(Vec2(x_axis.node(i), y_axis.node(j)));
         if (surface.distance >= reach) continue;
-        const Vec2 relative = Vec2(nodes.velocity_x[n], nodes.velocity_y[n]) - body_velocity;
+        double damped_work = 0.0;
+        // The local damping of the grid update does not act at a contact node: the body sets its
+        // velocity, as a support does (else the damping force would add to the contact force,
+        // by about the factor 1 + α). Its share of v^L is taken out again (not at dashpots).
+        Vec2 damping_change = Vec2::Zero();
+        if (forces && alpha > 0.0 &&
+            (dashpot_x_.empty() || (dashpot_x_[n] == 0.0 && dashpot_y_[n] == 0.0))) {
+          const Vec2 old_velocity = Vec2(nodes.momentum_x[n], nodes.momentum_y[n]) / mass;
+          const Vec2 damping_force(-alpha * std::abs(nodes.force_x[n]) * sign(old_velocity.x()),
+                                   -alpha * std::abs(nodes.force_y[n]) * sign(old_velocity.y()));
+          damping_change =
+              Vec2(free_x[n] * damping_force.x(), free_y[n] * damping_force.y()) * (dt / mass);
+          damped_work =
+              -0.5 * dt *
+              damping_force.dot(old_velocity + Vec2(nodes.velocity_x[n], nodes.velocity_y[n]));
+        }
+        const Vec2 undamped = Vec2(nodes.velocity_x[n], nodes.velocity_y[n]) - damping_change;
+        const Vec2 relative = undamped - body_velocity;
         const double normal_speed = relative.dot(surface.normal);
         if (normal_speed >= 0.0) continue;  // separating or sliding along: no contact
         Vec2 change = Vec2::Zero();
@@ -549,11 +567,12 @@ void Solver::apply_contact(double dt, bool forces) {
           const double along = free_direction.dot(surface.normal);
           if (std::abs(along) > 1e-3) change = -normal_speed / along * free_direction;
         }
-        nodes.velocity_x[n] += change.x();
-        nodes.velocity_y[n] += change.y();
+        nodes.velocity_x[n] = undamped.x() + change.x();
+        nodes.velocity_y[n] = undamped.y() + change.y();
         if (forces) {
-          nodes.velocity_change_x[n] += change.x();
-          nodes.velocity_change_y[n] += change.y();
+          nodes.velocity_change_x[n] += change.x() - damping_change.x();
+          nodes.velocity_change_y[n] += change.y() - damping_change.y();
+          energies_.damping -= damped_work;
           const Vec2 on_body = -mass * change / dt;
           force.total += on_body;
           force.parts[static_cast<std::size_t>(surface.part)] += on_body;
