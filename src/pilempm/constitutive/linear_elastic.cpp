@@ -21,7 +21,10 @@ Mat6 ElasticParameters::stiffness() const {
 }
 
 LinearElastic::LinearElastic(const ElasticParameters& parameters)
-    : parameters_(parameters), stiffness_((parameters.validate(), parameters.stiffness())) {}
+    : parameters_(parameters),
+      stiffness_((parameters.validate(), parameters.stiffness())),
+      two_shear_modulus_(2.0 * parameters.shear_modulus()),
+      lame_lambda_(parameters.bulk_modulus() - 2.0 / 3.0 * parameters.shear_modulus()) {}
 
 UpdateResult LinearElastic::update(MaterialState& state, const Vec6& strain_increment) const {
   if (!strain_increment.allFinite() || !state.stress.allFinite() ||
@@ -31,8 +34,11 @@ UpdateResult LinearElastic::update(MaterialState& state, const Vec6& strain_incr
     failed.message = "linear elastic: non-finite stress, void ratio or strain increment";
     return failed;
   }
-  state.stress += stiffness_ * strain_increment;
-  state.void_ratio += (1.0 + state.void_ratio) * trace(strain_increment);
+  const double volumetric = trace(strain_increment);
+  state.stress += two_shear_modulus_ * strain_increment;
+  const double pressure_change = lame_lambda_ * volumetric;
+  for (int k = 0; k < 3; ++k) state.stress[k] += pressure_change;
+  state.void_ratio += (1.0 + state.void_ratio) * volumetric;
   UpdateResult result;
   result.substeps = 1;
   return result;

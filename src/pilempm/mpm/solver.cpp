@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/in_plane_rotation.hpp"
@@ -36,6 +37,24 @@ inline void for_each_node(const Stencil& stencil, int nx, NodeVisitor&& visit) {
       visit(row + i, stencil.x.weight[i] * weight_y, stencil.x.gradient[i] * weight_y,
             stencil.x.weight[i] * gradient_y);
     }
+  }
+}
+
+// Visits the rows of one particle's stencil: visit(first node of the row, node count, S_j(y),
+// dS_j/dy), the count a compile-time 3 for the usual 3 x 3 stencil. Sums over a row first and then
+// over the rows take fewer products than node by node.
+template <class RowVisitor>
+inline void for_each_row(const Stencil& stencil, int nx, RowVisitor&& visit) {
+  if (stencil.x.count == 3 && stencil.y.count == 3) {
+    for (int j = 0; j < 3; ++j) {
+      visit((stencil.y.first + j) * nx + stencil.x.first, std::integral_constant<int, 3>{},
+            stencil.y.weight[j], stencil.y.gradient[j]);
+    }
+    return;
+  }
+  for (int j = 0; j < stencil.y.count; ++j) {
+    visit((stencil.y.first + j) * nx + stencil.x.first, stencil.x.count, stencil.y.weight[j],
+          stencil.y.gradient[j]);
   }
 }
 
@@ -254,8 +273,7 @@ double Solver::step() {
 }
 
 void Solver::advance(double dt) {
-  particles_to_grid();      // weights at x^n; nodal mass, momentum, internal and external forces
-  update_grid(dt);          // momentum balance with damping and boundary conditions
+  particles_to_grid(dt);    // weights at x^n; nodal mass, momentum, forces; the grid update
   apply_contact(dt, true);  // rigid bodies: Coulomb frictional contact, forces on the bodies
   grid_to_particles(dt);    // FLIP/PIC velocities and positions (MUSL: new momentum to the grid)
   update_stress(dt);        // velocity gradient, Jaumann rotation, model update, F, volume
@@ -280,7 +298,7 @@ long Solver::run_until(double end_time) {
 // With more, each thread adds into its own buffer, and then each node's sum is formed from the
 // buffers in thread order (over the node range each thread touched), which also clears them.
 // scatter_particle(p, sums, thread) adds particle p's share and leaves its stencil in stencils_;
-// finish_node(n) runs once node n's sums are complete.
+// finish_node(n, thread) runs once node n's sums are complete.
 template <class ScatterParticle, class FinishNode>
 void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_particle,
                              FinishNode&& finish_node) {
@@ -344,18 +362,26 @@ void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_part
           nodes.force_y[n] = force_y;
         }
       }
-      finish_node(n);
+      finish_node(n, thread);
     }
   }
 }
 
-void Solver::particles_to_grid() {
+// Particles to grid and the grid update in one parallel pass: each node is updated as soon as
+// its sums are complete (in the scatter's node loop, split like a loop of its own).
+void Solver::particles_to_grid(double dt) {
   const Particles& p = particles_;
   const int nx = grid_.nx();
   const ShapeFunction shape = settings_.shape_function;
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
   const double mass_scaling = settings_.mass_scaling;
   const Vec2 gravity(0.0, -settings_.gravity_multiplier * settings_.gravity);
+  NodalFields& nodes = grid_.nodes();
+  const double* free_x = grid_.free_x().data();
+  const double* free_y = grid_.free_y().data();
+  const double alpha = settings_.local_damping;
+  const bool absorbing = !settings_.absorbing_boundaries.empty();
+  std::vector<ThreadAccount>& accounts = reset_thread_accounts();
   scatter_to_grid(
       true,
       [&](long i, const NodalSums& to, int) {
@@ -375,62 +401,65 @@ void Solver::particles_to_grid() {
         // Axisymmetry: the hoop stress pulls the radial nodes by -V σ_θθ S_i / r_p.
         const double hoop_force = axisymmetric ? -volume * stress[k33] / x.x() : 0.0;
         const double radial_force = body_force.x() + hoop_force;
-        for_each_node(stencil, nx, [&](int n, double s, double ds_dx, double ds_dy) {
-          to.mass[n] += s * inertial_mass;
-          to.momentum_x[n] += s * momentum.x();
-          to.momentum_y[n] += s * momentum.y();
-          // f_i = S_i b_p - V_p σ_p ∇S_i
-          to.force_x[n] += s * radial_force - (v_sxx * ds_dx + v_sxy * ds_dy);
-          to.force_y[n] += s * body_force.y() - (v_sxy * ds_dx + v_syy * ds_dy);
+        double* const mass = to.mass;
+        double* const momentum_x = to.momentum_x;
+        double* const momentum_y = to.momentum_y;
+        double* const force_x = to.force_x;
+        double* const force_y = to.force_y;
+        for_each_row(stencil, nx, [&](int row, auto row_nodes, double weight_y, double gradient_y) {
+          // f_i = S_i b_p - V_p σ_p ∇S_i with S_i = S_x S_y, ∇S_i = (S_x' S_y, S_x S_y'): per
+          // row, the coefficients of S_x and S_x'.
+          const double row_mass = weight_y * inertial_mass;
+          const double row_momentum_x = weight_y * momentum.x();
+          const double row_momentum_y = weight_y * momentum.y();
+          const double force_x_weight = weight_y * radial_force - gradient_y * v_sxy;
+          const double force_x_gradient = -weight_y * v_sxx;
+          const double force_y_weight = weight_y * body_force.y() - gradient_y * v_syy;
+          const double force_y_gradient = -weight_y * v_sxy;
+          for (int k = 0; k < row_nodes; ++k) {
+            const int n = row + k;
+            const double weight_x = stencil.x.weight[k], gradient_x = stencil.x.gradient[k];
+            mass[n] += weight_x * row_mass;
+            momentum_x[n] += weight_x * row_momentum_x;
+            momentum_y[n] += weight_x * row_momentum_y;
+            force_x[n] += weight_x * force_x_weight + gradient_x * force_x_gradient;
+            force_y[n] += weight_x * force_y_weight + gradient_x * force_y_gradient;
+          }
         });
       },
-      [](long) {});
-}
-
-void Solver::update_grid(double dt) {
-  NodalFields& nodes = grid_.nodes();
-  const double* free_x = grid_.free_x().data();
-  const double* free_y = grid_.free_y().data();
-  const long node_count = grid_.node_count();
-  const double alpha = settings_.local_damping;
-  const bool absorbing = !settings_.absorbing_boundaries.empty();
-  std::vector<ThreadAccount>& accounts = reset_thread_accounts();
-#pragma omp parallel num_threads(threads_)
-  {
-    ThreadAccount& account = accounts[omp_get_thread_num()];
-#pragma omp for schedule(static)
-    for (long n = 0; n < node_count; ++n) {
-      const double mass = nodes.mass[n];
-      if (mass <= 0.0) {
-        nodes.velocity_x[n] = nodes.velocity_y[n] = 0.0;
-        nodes.velocity_change_x[n] = nodes.velocity_change_y[n] = 0.0;
-        continue;
-      }
-      const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
-      // Local non-viscous damping (Cundall 1987): f_damped = f - α |f| sign(v), per component.
-      const double damping_x = -alpha * std::abs(nodes.force_x[n]) * sign(vx);
-      const double damping_y = -alpha * std::abs(nodes.force_y[n]) * sign(vy);
-      // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP. A dashpot
-      // -C v^L (absorbing boundary) is taken implicitly: v^L = (m v + f dt) / (m + C dt).
-      double new_vx = vx + (nodes.force_x[n] + damping_x) * dt / mass;
-      double new_vy = vy + (nodes.force_y[n] + damping_y) * dt / mass;
-      if (absorbing) {
-        const double cx = dashpot_x_[n], cy = dashpot_y_[n];
-        if (cx > 0.0) new_vx *= mass / (mass + cx * dt);
-        if (cy > 0.0) new_vy *= mass / (mass + cy * dt);
-        // Work of the dashpot force -C v^L over the step, with the mean velocity.
-        account.sum[1] += 0.5 * dt * (cx * new_vx * (vx + new_vx) + cy * new_vy * (vy + new_vy));
-      }
-      new_vx *= free_x[n];
-      new_vy *= free_y[n];
-      nodes.velocity_x[n] = new_vx;
-      nodes.velocity_y[n] = new_vy;
-      nodes.velocity_change_x[n] = new_vx - vx;
-      nodes.velocity_change_y[n] = new_vy - vy;
-      // Work of the damping force over the step, with the mean of the old and new velocities.
-      account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
-    }
-  }
+      [&](long n, int thread) {
+        // The grid update of node n: momentum balance with damping and boundary conditions.
+        ThreadAccount& account = accounts[static_cast<std::size_t>(thread)];
+        const double mass = nodes.mass[n];
+        if (mass <= 0.0) {
+          nodes.velocity_x[n] = nodes.velocity_y[n] = 0.0;
+          nodes.velocity_change_x[n] = nodes.velocity_change_y[n] = 0.0;
+          return;
+        }
+        const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
+        // Local non-viscous damping (Cundall 1987): f_damped = f - α |f| sign(v), per component.
+        const double damping_x = -alpha * std::abs(nodes.force_x[n]) * sign(vx);
+        const double damping_y = -alpha * std::abs(nodes.force_y[n]) * sign(vy);
+        // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP. A dashpot
+        // -C v^L (absorbing boundary) is taken implicitly: v^L = (m v + f dt) / (m + C dt).
+        double new_vx = vx + (nodes.force_x[n] + damping_x) * dt / mass;
+        double new_vy = vy + (nodes.force_y[n] + damping_y) * dt / mass;
+        if (absorbing) {
+          const double cx = dashpot_x_[n], cy = dashpot_y_[n];
+          if (cx > 0.0) new_vx *= mass / (mass + cx * dt);
+          if (cy > 0.0) new_vy *= mass / (mass + cy * dt);
+          // Work of the dashpot force -C v^L over the step, with the mean velocity.
+          account.sum[1] += 0.5 * dt * (cx * new_vx * (vx + new_vx) + cy * new_vy * (vy + new_vy));
+        }
+        new_vx *= free_x[n];
+        new_vy *= free_y[n];
+        nodes.velocity_x[n] = new_vx;
+        nodes.velocity_y[n] = new_vy;
+        nodes.velocity_change_x[n] = new_vx - vx;
+        nodes.velocity_change_y[n] = new_vy - vy;
+        // Work of the damping force over the step, with the mean of the old and new velocities.
+        account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
+      });
   for (const ThreadAccount& account : accounts) {
     energies_.damping += account.sum[0];
     energies_.absorbed += account.sum[1];
@@ -588,11 +617,13 @@ void Solver::grid_to_particles(double dt) {
     account.sum[0] += (p.mass[i] * gravity + p.external_force[i]).dot(displacement);
     p.position[i] += displacement;
     const double inertial_mass = mass_scaling * p.mass[i];
-    const double speed = p.velocity[i].norm();
-    account.sum[1] += 0.5 * inertial_mass * speed * speed;
-    account.max = std::max(account.max, speed);
+    // |v|^2: the largest speed is the root of the largest square (taken after the loop).
+    const double squared_speed = p.velocity[i].squaredNorm();
+    account.sum[1] += 0.5 * inertial_mass * squared_speed;
+    account.max = std::max(account.max, squared_speed);
     const Vec2& x = p.position[i];
-    if (!(std::isfinite(speed) && grid_.contains(x.x(), x.y()) && (!axisymmetric || x.x() > 0.0)) &&
+    if (!(p.velocity[i].allFinite() && grid_.contains(x.x(), x.y()) &&
+          (!axisymmetric || x.x() > 0.0)) &&
         static_cast<std::size_t>(i) < account.failed_particle) {
       account.failed_particle = static_cast<std::size_t>(i);
       account.failure =
@@ -616,7 +647,8 @@ void Solver::grid_to_particles(double dt) {
             to.momentum_y[n] += s * momentum.y();
           });
         },
-        [&](long n) {  // the nodal velocity from the new momentum, with the boundary conditions
+        [&](long n,
+            int) {  // the nodal velocity from the new momentum, with the boundary conditions
           const double mass = grid_nodes.mass[n];
           const double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0;
           grid_nodes.velocity_x[n] = free_x[n] * grid_nodes.momentum_x[n] * inverse_mass;
@@ -646,6 +678,7 @@ void Solver::grid_to_particles(double dt) {
       failure = account.failure;
     }
   }
+  max_particle_speed_ = std::sqrt(max_particle_speed_);
   if (failed != kNoParticle) fail_at_particle(failed, failure);
 }
 
@@ -702,18 +735,29 @@ void Solver::update_stress(double dt) {
   const bool smoothing = settings_.volumetric_smoothing;
   // Kinematics of particle i over the step: the in-plane increment L dt, with the velocity
   // gradient L_ab = Σ v_ia dS_i/dx_b, and the hoop increment v_r dt / r (axisymmetry).
+  const double* velocity_x = nodes.velocity_x.data();
+  const double* velocity_y = nodes.velocity_y.data();
   auto kinematics = [&](long i, Mat2& increment, double& hoop_increment) {
-    Mat2 velocity_gradient = Mat2::Zero();
-    double radial_velocity = 0.0;
-    for_each_node(stencils_[i], nx, [&](int n, double s, double ds_dx, double ds_dy) {
-      const double vx = nodes.velocity_x[n], vy = nodes.velocity_y[n];
-      velocity_gradient(0, 0) += vx * ds_dx;
-      velocity_gradient(0, 1) += vx * ds_dy;
-      velocity_gradient(1, 0) += vy * ds_dx;
-      velocity_gradient(1, 1) += vy * ds_dy;
-      radial_velocity += s * vx;
+    const Stencil& stencil = stencils_[i];
+    double dvx_dx = 0.0, dvx_dy = 0.0, dvy_dx = 0.0, dvy_dy = 0.0, radial_velocity = 0.0;
+    for_each_row(stencil, nx, [&](int row, auto row_nodes, double weight_y, double gradient_y) {
+      // Along the row: Σ S_x' v and Σ S_x v; then times S_y or S_y'.
+      double gradient_vx = 0.0, weight_vx = 0.0, gradient_vy = 0.0, weight_vy = 0.0;
+      for (int k = 0; k < row_nodes; ++k) {
+        const double vx = velocity_x[row + k], vy = velocity_y[row + k];
+        const double weight_x = stencil.x.weight[k], gradient_x = stencil.x.gradient[k];
+        gradient_vx += gradient_x * vx;
+        weight_vx += weight_x * vx;
+        gradient_vy += gradient_x * vy;
+        weight_vy += weight_x * vy;
+      }
+      dvx_dx += weight_y * gradient_vx;
+      dvx_dy += gradient_y * weight_vx;
+      dvy_dx += weight_y * gradient_vy;
+      dvy_dy += gradient_y * weight_vy;
+      radial_velocity += weight_y * weight_vx;
     });
-    increment = dt * velocity_gradient;
+    increment << dt * dvx_dx, dt * dvx_dy, dt * dvy_dx, dt * dvy_dy;
     hoop_increment = axisymmetric ? dt * radial_velocity / start_radius_[i] : 0.0;
   };
   if (smoothing) smooth_volumetric_increments(kinematics);
@@ -756,7 +800,8 @@ void Solver::update_stress(double dt) {
       deformation = (Mat2::Identity() + increment) * deformation;
       p.out_of_plane_stretch[i] *= 1.0 + hoop_increment;
       const double volume_before = p.volume[i];
-      p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
+      const double jacobian = deformation.determinant();
+      p.volume[i] = jacobian * p.out_of_plane_stretch[i] * p.initial_volume[i];
       // Strain work with the mean stress and mean volume over the step (trapezoidal rule).
       account.sum[0] += 0.25 * (volume_before + p.volume[i]) *
                         (stress_before + state.stress).dot(strain_increment);
@@ -765,7 +810,7 @@ void Solver::update_stress(double dt) {
         // cpGIMP: the domain's half-lengths follow the stretch V = sqrt(F F^T) along x and y
         // (2x2 square root: sqrt(B) = (B + sqrt(det B) I) / sqrt(tr B + 2 sqrt(det B))).
         const Mat2 left_cauchy_green = deformation * deformation.transpose();
-        const double root_det = std::abs(deformation.determinant());
+        const double root_det = std::abs(jacobian);
         const double scale = 1.0 / std::sqrt(left_cauchy_green.trace() + 2.0 * root_det);
         p.half_size[i] =
             p.initial_half_size[i].cwiseProduct(Vec2((left_cauchy_green(0, 0) + root_det) * scale,

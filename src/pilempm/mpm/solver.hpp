@@ -188,8 +188,8 @@ class Solver {
  private:
   // One step of length dt: the steps of the algorithm, in order.
   void advance(double dt);
-  void particles_to_grid();
-  void update_grid(double dt);
+  // Particles to grid, then the grid update (momentum balance, damping, boundary conditions).
+  void particles_to_grid(double dt);
   void grid_to_particles(double dt);
   void update_stress(double dt);
   template <class Kinematics>
