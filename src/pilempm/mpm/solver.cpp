@@ -125,14 +125,10 @@ Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
   const std::size_t count = particles_.size();
   stencils_.resize(count);
   start_radius_.resize(count);
-  thread_grids_.resize(threads_ > 1 ? static_cast<std::size_t>(threads_) : 0);
+  thread_grids_.resize(static_cast<std::size_t>(threads_));
   thread_accounts_.resize(static_cast<std::size_t>(threads_));
   const auto nodes = static_cast<std::size_t>(grid_.node_count());
-  for (ThreadGrid& buffer : thread_grids_) {
-    for (std::vector<double>* field :
-         {&buffer.mass, &buffer.momentum_x, &buffer.momentum_y, &buffer.force_x, &buffer.force_y})
-      field->assign(nodes, 0.0);
-  }
+  for (ThreadGrid& buffer : thread_grids_) buffer.sums.assign(nodes, NodeSums{});
 
   update_dashpots();
   for (std::size_t p = 0; p < count; ++p) {
@@ -294,11 +290,10 @@ long Solver::run_until(double end_time) {
   return taken;
 }
 
-// Scatter without locks. With one thread the particles add straight into the grid's arrays.
-// With more, each thread adds into its own buffer, and then each node's sum is formed from the
-// buffers in thread order (over the node range each thread touched), which also clears them.
-// scatter_particle(p, sums, thread) adds particle p's share and leaves its stencil in stencils_;
-// finish_node(n, thread) runs once node n's sums are complete.
+// Scatter without locks: each thread adds into its own buffer, and then each node's sum is formed
+// from the buffers in thread order (over the node range each thread touched), which also clears
+// them. scatter_particle(p, sums, thread) adds particle p's share and leaves its stencil in
+// stencils_; finish_node(n, thread) runs once node n's sums are complete.
 template <class ScatterParticle, class FinishNode>
 void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_particle,
                              FinishNode&& finish_node) {
@@ -306,22 +301,10 @@ void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_part
   const long node_count = grid_.node_count();
   const auto particle_count = static_cast<long>(particles_.size());
   const int nx = grid_.nx();
-  const bool direct = thread_grids_.empty();
 #pragma omp parallel num_threads(threads_)
   {
     const int thread = omp_get_thread_num();
-    NodalSums sums{nodes.mass.data(), nodes.momentum_x.data(), nodes.momentum_y.data(),
-                   nodes.force_x.data(), nodes.force_y.data()};
-    if (direct) {
-      for (long n = 0; n < node_count; ++n) {
-        nodes.momentum_x[n] = nodes.momentum_y[n] = 0.0;
-        if (mass_and_force) nodes.mass[n] = nodes.force_x[n] = nodes.force_y[n] = 0.0;
-      }
-    } else {
-      ThreadGrid& buffer = thread_grids_[thread];
-      sums = {buffer.mass.data(), buffer.momentum_x.data(), buffer.momentum_y.data(),
-              buffer.force_x.data(), buffer.force_y.data()};
-    }
+    NodeSums* const sums = thread_grids_[static_cast<std::size_t>(thread)].sums.data();
     int lowest_node = static_cast<int>(node_count), end_node = 0;
 #pragma omp for schedule(static)
     for (long p = 0; p < particle_count; ++p) {
@@ -331,36 +314,33 @@ void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_part
       lowest_node = std::min(lowest_node, first);
       end_node = std::max(end_node, first + (stencil.y.count - 1) * nx + stencil.x.count);
     }
-    if (!direct) {
-      thread_grids_[thread].lowest_node = lowest_node;
-      thread_grids_[thread].end_node = end_node;
-    }
+    thread_grids_[static_cast<std::size_t>(thread)].lowest_node = lowest_node;
+    thread_grids_[static_cast<std::size_t>(thread)].end_node = end_node;
 #pragma omp barrier
     const int team = omp_get_num_threads();
 #pragma omp for schedule(static)
     for (long n = 0; n < node_count; ++n) {
-      if (!direct) {
-        double mass = 0.0, momentum_x = 0.0, momentum_y = 0.0, force_x = 0.0, force_y = 0.0;
-        for (int t = 0; t < team; ++t) {
-          ThreadGrid& buffer = thread_grids_[t];
-          if (n < buffer.lowest_node || n >= buffer.end_node) continue;
-          momentum_x += buffer.momentum_x[n];
-          momentum_y += buffer.momentum_y[n];
-          buffer.momentum_x[n] = buffer.momentum_y[n] = 0.0;
-          if (mass_and_force) {
-            mass += buffer.mass[n];
-            force_x += buffer.force_x[n];
-            force_y += buffer.force_y[n];
-            buffer.mass[n] = buffer.force_x[n] = buffer.force_y[n] = 0.0;
-          }
-        }
-        nodes.momentum_x[n] = momentum_x;
-        nodes.momentum_y[n] = momentum_y;
+      Vec2 momentum = Vec2::Zero(), force = Vec2::Zero();
+      double mass = 0.0;
+      for (int t = 0; t < team; ++t) {
+        ThreadGrid& buffer = thread_grids_[static_cast<std::size_t>(t)];
+        if (n < buffer.lowest_node || n >= buffer.end_node) continue;
+        NodeSums& node = buffer.sums[static_cast<std::size_t>(n)];
+        momentum += node.momentum;
+        node.momentum.setZero();
         if (mass_and_force) {
-          nodes.mass[n] = mass;
-          nodes.force_x[n] = force_x;
-          nodes.force_y[n] = force_y;
+          mass += node.mass;
+          force += node.force;
+          node.mass = 0.0;
+          node.force.setZero();
         }
+      }
+      nodes.momentum_x[n] = momentum.x();
+      nodes.momentum_y[n] = momentum.y();
+      if (mass_and_force) {
+        nodes.mass[n] = mass;
+        nodes.force_x[n] = force.x();
+        nodes.force_y[n] = force.y();
       }
       finish_node(n, thread);
     }
@@ -384,7 +364,7 @@ void Solver::particles_to_grid(double dt) {
   std::vector<ThreadAccount>& accounts = reset_thread_accounts();
   scatter_to_grid(
       true,
-      [&](long i, const NodalSums& to, int) {
+      [&](long i, NodeSums* to, int) {
         Stencil& stencil = stencils_[i];
         const Vec2& x = p.position[i];
         compute_stencil(grid_, shape, x.x(), x.y(), p.half_size[i].x(), p.half_size[i].y(),
@@ -401,29 +381,20 @@ void Solver::particles_to_grid(double dt) {
         // Axisymmetry: the hoop stress pulls the radial nodes by -V σ_θθ S_i / r_p.
         const double hoop_force = axisymmetric ? -volume * stress[k33] / x.x() : 0.0;
         const double radial_force = body_force.x() + hoop_force;
-        double* const mass = to.mass;
-        double* const momentum_x = to.momentum_x;
-        double* const momentum_y = to.momentum_y;
-        double* const force_x = to.force_x;
-        double* const force_y = to.force_y;
         for_each_row(stencil, nx, [&](int row, auto row_nodes, double weight_y, double gradient_y) {
           // f_i = S_i b_p - V_p σ_p ∇S_i with S_i = S_x S_y, ∇S_i = (S_x' S_y, S_x S_y'): per
           // row, the coefficients of S_x and S_x'.
           const double row_mass = weight_y * inertial_mass;
-          const double row_momentum_x = weight_y * momentum.x();
-          const double row_momentum_y = weight_y * momentum.y();
-          const double force_x_weight = weight_y * radial_force - gradient_y * v_sxy;
-          const double force_x_gradient = -weight_y * v_sxx;
-          const double force_y_weight = weight_y * body_force.y() - gradient_y * v_syy;
-          const double force_y_gradient = -weight_y * v_sxy;
+          const Vec2 row_momentum = weight_y * momentum;
+          const Vec2 force_weight(weight_y * radial_force - gradient_y * v_sxy,
+                                  weight_y * body_force.y() - gradient_y * v_syy);
+          const Vec2 force_gradient(-weight_y * v_sxx, -weight_y * v_sxy);
           for (int k = 0; k < row_nodes; ++k) {
-            const int n = row + k;
+            NodeSums& node = to[row + k];
             const double weight_x = stencil.x.weight[k], gradient_x = stencil.x.gradient[k];
-            mass[n] += weight_x * row_mass;
-            momentum_x[n] += weight_x * row_momentum_x;
-            momentum_y[n] += weight_x * row_momentum_y;
-            force_x[n] += weight_x * force_x_weight + gradient_x * force_x_gradient;
-            force_y[n] += weight_x * force_y_weight + gradient_x * force_y_gradient;
+            node.mass += weight_x * row_mass;
+            node.momentum += weight_x * row_momentum;
+            node.force += weight_x * force_weight + gradient_x * force_gradient;
           }
         });
       },
@@ -640,12 +611,10 @@ void Solver::grid_to_particles(double dt) {
     const double* free_y = grid_.free_y().data();
     scatter_to_grid(
         false,
-        [&](long i, const NodalSums& to, int thread) {
+        [&](long i, NodeSums* to, int thread) {
           const Vec2 momentum = move_particle(i, accounts[thread]);
-          for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
-            to.momentum_x[n] += s * momentum.x();
-            to.momentum_y[n] += s * momentum.y();
-          });
+          for_each_node(stencils_[i], nx,
+                        [&](int n, double s, double, double) { to[n].momentum += s * momentum; });
         },
         [&](long n,
             int) {  // the nodal velocity from the new momentum, with the boundary conditions
