@@ -129,6 +129,7 @@ Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
   thread_accounts_.resize(static_cast<std::size_t>(threads_));
   const auto nodes = static_cast<std::size_t>(grid_.node_count());
   for (ThreadGrid& buffer : thread_grids_) buffer.sums.assign(nodes, NodeSums{});
+  node_motion_.assign(nodes, NodeMotion{});
 
   update_dashpots();
   for (std::size_t p = 0; p < count; ++p) {
@@ -405,6 +406,7 @@ void Solver::particles_to_grid(double dt) {
         if (mass <= 0.0) {
           nodes.velocity_x[n] = nodes.velocity_y[n] = 0.0;
           nodes.velocity_change_x[n] = nodes.velocity_change_y[n] = 0.0;
+          node_motion_[static_cast<std::size_t>(n)] = NodeMotion{};
           return;
         }
         const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
@@ -428,6 +430,8 @@ void Solver::particles_to_grid(double dt) {
         nodes.velocity_y[n] = new_vy;
         nodes.velocity_change_x[n] = new_vx - vx;
         nodes.velocity_change_y[n] = new_vy - vy;
+        node_motion_[static_cast<std::size_t>(n)] = {Vec2(new_vx, new_vy),
+                                                     Vec2(new_vx - vx, new_vy - vy)};
         // Work of the damping force over the step, with the mean of the old and new velocities.
         account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
       });
@@ -551,9 +555,11 @@ void Solver::apply_contact(double dt, bool forces) {
         }
         nodes.velocity_x[n] += change.x();
         nodes.velocity_y[n] += change.y();
+        node_motion_[static_cast<std::size_t>(n)].velocity += change;
         if (forces) {
           nodes.velocity_change_x[n] += change.x();
           nodes.velocity_change_y[n] += change.y();
+          node_motion_[static_cast<std::size_t>(n)].change += change;
           const Vec2 on_body = -mass * change / dt;
           force.total += on_body;
           force.parts[static_cast<std::size_t>(surface.part)] += on_body;
@@ -567,7 +573,7 @@ void Solver::apply_contact(double dt, bool forces) {
 
 void Solver::grid_to_particles(double dt) {
   Particles& p = particles_;
-  const NodalFields& nodes = grid_.nodes();
+  const NodeMotion* motion = node_motion_.data();
   const auto count = static_cast<long>(p.size());
   const int nx = grid_.nx();
   const double flip = settings_.flip_fraction;
@@ -579,8 +585,9 @@ void Solver::grid_to_particles(double dt) {
   auto move_particle = [&](long i, ThreadAccount& account) -> Vec2 {
     Vec2 grid_velocity = Vec2::Zero(), velocity_change = Vec2::Zero();
     for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
-      grid_velocity += s * Vec2(nodes.velocity_x[n], nodes.velocity_y[n]);
-      velocity_change += s * Vec2(nodes.velocity_change_x[n], nodes.velocity_change_y[n]);
+      const NodeMotion& node = motion[n];
+      grid_velocity += s * node.velocity;
+      velocity_change += s * node.change;
     });
     // FLIP/PIC blend of the particle velocity; the particle moves with the grid velocity.
     p.velocity[i] = flip * (p.velocity[i] + velocity_change) + (1.0 - flip) * grid_velocity;
@@ -620,8 +627,11 @@ void Solver::grid_to_particles(double dt) {
             int) {  // the nodal velocity from the new momentum, with the boundary conditions
           const double mass = grid_nodes.mass[n];
           const double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0;
-          grid_nodes.velocity_x[n] = free_x[n] * grid_nodes.momentum_x[n] * inverse_mass;
-          grid_nodes.velocity_y[n] = free_y[n] * grid_nodes.momentum_y[n] * inverse_mass;
+          const double vx = free_x[n] * grid_nodes.momentum_x[n] * inverse_mass;
+          const double vy = free_y[n] * grid_nodes.momentum_y[n] * inverse_mass;
+          grid_nodes.velocity_x[n] = vx;
+          grid_nodes.velocity_y[n] = vy;
+          node_motion_[static_cast<std::size_t>(n)].velocity = Vec2(vx, vy);
         });
     // The remapped velocities obey the contact too, so the strain rate sees no penetration.
     apply_contact(dt, false);
@@ -696,7 +706,6 @@ void Solver::smooth_volumetric_increments(Kinematics&& kinematics) {
 
 void Solver::update_stress(double dt) {
   Particles& p = particles_;
-  const NodalFields& nodes = grid_.nodes();
   const auto count = static_cast<long>(p.size());
   const int nx = grid_.nx();
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
@@ -704,27 +713,23 @@ void Solver::update_stress(double dt) {
   const bool smoothing = settings_.volumetric_smoothing;
   // Kinematics of particle i over the step: the in-plane increment L dt, with the velocity
   // gradient L_ab = Σ v_ia dS_i/dx_b, and the hoop increment v_r dt / r (axisymmetry).
-  const double* velocity_x = nodes.velocity_x.data();
-  const double* velocity_y = nodes.velocity_y.data();
+  const NodeMotion* motion = node_motion_.data();
   auto kinematics = [&](long i, Mat2& increment, double& hoop_increment) {
     const Stencil& stencil = stencils_[i];
     double dvx_dx = 0.0, dvx_dy = 0.0, dvy_dx = 0.0, dvy_dy = 0.0, radial_velocity = 0.0;
     for_each_row(stencil, nx, [&](int row, auto row_nodes, double weight_y, double gradient_y) {
       // Along the row: Σ S_x' v and Σ S_x v; then times S_y or S_y'.
-      double gradient_vx = 0.0, weight_vx = 0.0, gradient_vy = 0.0, weight_vy = 0.0;
+      Vec2 gradient_v = Vec2::Zero(), weight_v = Vec2::Zero();
       for (int k = 0; k < row_nodes; ++k) {
-        const double vx = velocity_x[row + k], vy = velocity_y[row + k];
-        const double weight_x = stencil.x.weight[k], gradient_x = stencil.x.gradient[k];
-        gradient_vx += gradient_x * vx;
-        weight_vx += weight_x * vx;
-        gradient_vy += gradient_x * vy;
-        weight_vy += weight_x * vy;
+        const Vec2& v = motion[row + k].velocity;
+        gradient_v += stencil.x.gradient[k] * v;
+        weight_v += stencil.x.weight[k] * v;
       }
-      dvx_dx += weight_y * gradient_vx;
-      dvx_dy += gradient_y * weight_vx;
-      dvy_dx += weight_y * gradient_vy;
-      dvy_dy += gradient_y * weight_vy;
-      radial_velocity += weight_y * weight_vx;
+      dvx_dx += weight_y * gradient_v.x();
+      dvx_dy += gradient_y * weight_v.x();
+      dvy_dx += weight_y * gradient_v.y();
+      dvy_dy += gradient_y * weight_v.y();
+      radial_velocity += weight_y * weight_v.x();
     });
     increment << dt * dvx_dx, dt * dvx_dy, dt * dvy_dx, dt * dvy_dy;
     hoop_increment = axisymmetric ? dt * radial_velocity / start_radius_[i] : 0.0;

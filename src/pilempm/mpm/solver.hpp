@@ -231,6 +231,14 @@ class Solver {
   std::vector<Stencil> stencils_;
   std::vector<double> start_radius_;
 
+  // The nodal velocity and its change over the step side by side, for the gathers: a copy of the
+  // grid's velocity_x, _y and velocity_change_x, _y, kept equal to them within a step.
+  struct NodeMotion {
+    Vec2 velocity = Vec2::Zero();
+    Vec2 change = Vec2::Zero();
+  };
+  std::vector<NodeMotion> node_motion_;
+
   // Per-thread nodal sums, and the node range each one touched.
   struct ThreadGrid {
     std::vector<NodeSums> sums;
