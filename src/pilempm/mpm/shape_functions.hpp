@@ -87,7 +87,8 @@ inline void linear_weights(const GridAxis& axis, double x, AxisWeights& out) {
   detail::pad_to_three_nodes(axis.node_count(), out);
 }
 
-inline void gimp_weights(const GridAxis& axis, double x, double half_size, AxisWeights& out) {
+[[gnu::always_inline]] inline void gimp_weights(const GridAxis& axis, double x, double half_size,
+                                                AxisWeights& out) {
   const double* node = axis.nodes().data();
   const double* inverse_spacing = axis.inverse_spacings().data();
   const int cells = axis.cell_count();
