@@ -69,6 +69,9 @@ struct Hypoplastic::StressFunctions {
   double c;        // f_b f_e / tr(T_hat^2)
   double F;        // Matsuoka-Nakai factor
   double f_d;      // pyknotropy factor
+  double x;        // 3p/h_s
+  double xn;       // (3p/h_s)^n
+  double bauer;    // exp(-(3p/h_s)^n)
 };
 
 Hypoplastic::Hypoplastic(const HypoplasticParameters& parameters,
@@ -119,6 +122,9 @@ Hypoplastic::StressFunctions Hypoplastic::stress_functions(const Vec6& stress,
   const double x = -tr_T / p.h_s;
   const double xn = std::pow(x, p.n);
   const double bauer = std::exp(-xn);
+  s.x = x;
+  s.xn = xn;
+  s.bauer = bauer;
   HypoplasticParameters::Reference r{p.alpha, p.e_d0, p.e_c0, p.e_i0};
   double fb_constant = f_b_constant_;
   if (stress_dependent_) {  // alpha and e_x0 follow the stress level (BRIEF.md §6)
@@ -143,8 +149,10 @@ Hypoplastic::Terms Hypoplastic::basic_terms(const MaterialState& state) const {
   return terms;
 }
 
-void Hypoplastic::evaluate(const Point& y, const Vec6& D, Point& rate_out) const {
+Hypoplastic::BauerFactor Hypoplastic::evaluate(const Point& y, const Vec6& D,
+                                               Point& rate_out) const {
   const StressFunctions s = stress_functions(y.stress, y.void_ratio);
+  const BauerFactor bauer{s.x, s.xn, s.bauer};
   const double a2 = a_ * a_;
   // L:X = c (F^2 X + a^2 T_hat (T_hat:X))
   const Vec6 L_D = s.c * (s.F * s.F * D + a2 * s.T_hat.dot(D) * s.T_hat);
@@ -154,7 +162,7 @@ void Hypoplastic::evaluate(const Point& y, const Vec6& D, Point& rate_out) const
   if (!intergranular_.enabled()) {
     rate_out.stress = L_D + N * D.norm();
     rate_out.delta.setZero();
-    return;
+    return bauer;
   }
   // Niemunis & Herle (1997), BRIEF.md §2.
   const auto& igs = intergranular_;
@@ -173,6 +181,7 @@ void Hypoplastic::evaluate(const Point& y, const Vec6& D, Point& rate_out) const
     rate_out.stress = m * L_D + (rho_chi * (igs.m_R - igs.m_T) * delta_D) * L_delta;
     rate_out.delta = D;
   }
+  return bauer;
 }
 
 Hypoplastic::Rate Hypoplastic::rate(const MaterialState& state, const Vec6& stretching) const {
@@ -231,14 +240,39 @@ double Hypoplastic::error_norm(const Point& error, const Point& y) const {
   return norm;
 }
 
-void Hypoplastic::restore_bounds(Point& y, UpdateResult& result) const {
-  const LimitVoidRatios band = limit_void_ratios(parameters_, mean_stress(y.stress));
-  if (y.void_ratio > band.e_i) {
-    result.void_ratio_excess = std::max(result.void_ratio_excess, y.void_ratio / band.e_i - 1.0);
-    y.void_ratio = band.e_i;
-  } else if (y.void_ratio < band.e_d) {
-    result.void_ratio_excess = std::max(result.void_ratio_excess, 1.0 - y.void_ratio / band.e_d);
-    y.void_ratio = band.e_d;
+// Whether e_d(p) <= e <= e_i(p) holds at y for certain, from Bauer's factor f_a = exp(-g_a),
+// g_a = x_a^n, known at a nearby x_a, without pow and exp. g(x) = x^n is concave for n <= 1 with
+// g(0) = 0, so with r = x / x_a
+//   g(x) <= g_a (1 - n + n r)   (the tangent at x_a),   g(x) >= g_a min(1, r)   (the chord to 0),
+// and exp(-z) >= 1 - z, exp(z) <= 1 / (1 - z) (z < 1) bound f(x) = exp(-g(x)) from both sides.
+// The relative margin 1e-12 covers the rounding of pow and exp: where this says yes,
+// limit_void_ratios() would not move e either, so the result is the same as without it.
+bool Hypoplastic::void_ratio_clearly_inside_band(const Point& y, const BauerFactor& a) const {
+  const auto& p = parameters_;
+  if (stress_dependent_ || !(p.n > 0.0 && p.n <= 1.0) || !(a.x > 0.0 && a.factor > 0.0))
+    return false;
+  const double x = -trace(y.stress) / p.h_s;
+  if (!(x > 0.0)) return false;
+  const double r = x / a.x;
+  const double f_low = a.factor * (1.0 - p.n * a.x_power_n * (r - 1.0));
+  const double rise = a.x_power_n * std::max(0.0, 1.0 - r);
+  if (!(rise < 0.5)) return false;
+  const double f_high = a.factor / (1.0 - rise);
+  constexpr double kMargin = 1e-12;
+  return y.void_ratio <= p.e_i0 * f_low * (1.0 - kMargin) &&
+         y.void_ratio >= p.e_d0 * f_high * (1.0 + kMargin);
+}
+
+void Hypoplastic::restore_bounds(Point& y, UpdateResult& result, const BauerFactor* nearby) const {
+  if (!(nearby && void_ratio_clearly_inside_band(y, *nearby))) {
+    const LimitVoidRatios band = limit_void_ratios(parameters_, mean_stress(y.stress));
+    if (y.void_ratio > band.e_i) {
+      result.void_ratio_excess = std::max(result.void_ratio_excess, y.void_ratio / band.e_i - 1.0);
+      y.void_ratio = band.e_i;
+    } else if (y.void_ratio < band.e_d) {
+      result.void_ratio_excess = std::max(result.void_ratio_excess, 1.0 - y.void_ratio / band.e_d);
+      y.void_ratio = band.e_d;
+    }
   }
   if (intergranular_.enabled()) {
     const double norm_delta = y.delta.norm();
@@ -272,6 +306,7 @@ UpdateResult Hypoplastic::update(MaterialState& state, const Vec6& strain_increm
   double t = 0.0;
   double h = adaptive ? 1.0 : 1.0 / settings.fixed_substeps;
   Point k1, k2, k3, k4, trial, low;
+  BauerFactor nearby;  // at the last evaluation, close to the point accepted next
   bool k1_valid = false;
   int attempts = 0;
   while (t < 1.0) {
@@ -289,7 +324,7 @@ UpdateResult Hypoplastic::update(MaterialState& state, const Vec6& strain_increm
       trial.assign_step(y, h, k1);
       inside = admissible(trial);
       if (inside) {
-        evaluate(trial, D, k2);
+        nearby = evaluate(trial, D, k2);
         trial.assign_step(y, 0.5 * h, k1);
         trial.add(0.5 * h, k2);
         inside = admissible(trial);
@@ -315,7 +350,7 @@ UpdateResult Hypoplastic::update(MaterialState& state, const Vec6& strain_increm
         trial.add(1.0 / 3.0 * h, k2);
         trial.add(4.0 / 9.0 * h, k3);
         inside = admissible(trial);
-        if (inside) evaluate(trial, D, k4);
+        if (inside) nearby = evaluate(trial, D, k4);
         if (inside && adaptive) {
           // y3 - y2 with the 2nd-order weights (7/24, 1/4, 1/3, 1/8).
           const double w1 = 2.0 / 9.0 - 7.0 / 24.0, w2 = 1.0 / 3.0 - 0.25,
@@ -371,7 +406,7 @@ UpdateResult Hypoplastic::update(MaterialState& state, const Vec6& strain_increm
     // Accept.
     const Point before = trial;
     y = trial;
-    restore_bounds(y, result);
+    restore_bounds(y, result, &nearby);
     t += h;
     ++result.substeps;
     // FSAL: k4 is the rate at the accepted point unless the bounds moved it.

@@ -79,10 +79,19 @@ class Hypoplastic final : public ConstitutiveModel {
   struct Point;  // the integrated variables (stress, void ratio, intergranular strain)
   struct StressFunctions;
   StressFunctions stress_functions(const Vec6& stress, double void_ratio) const;
-  void evaluate(const Point& y, const Vec6& stretching, Point& rate_out) const;
+  // Bauer's factor exp(-x^n) at x = 3p/h_s, as evaluate() found it at its point.
+  struct BauerFactor {
+    double x = 0.0;          // 3p/h_s
+    double x_power_n = 0.0;  // x^n
+    double factor = 0.0;     // exp(-x^n)
+  };
+  BauerFactor evaluate(const Point& y, const Vec6& stretching, Point& rate_out) const;
   bool admissible(const Point& y) const;
   double error_norm(const Point& error, const Point& y) const;
-  void restore_bounds(Point& y, UpdateResult& result) const;
+  // Keeps e in [e_d(p), e_i(p)] and |delta| <= R. `nearby`: Bauer's factor at a point close to y
+  // (saves pow and exp where e is clearly inside the band).
+  void restore_bounds(Point& y, UpdateResult& result, const BauerFactor* nearby = nullptr) const;
+  bool void_ratio_clearly_inside_band(const Point& y, const BauerFactor& nearby) const;
   void set_to_floor(Point& y) const;
 
   HypoplasticParameters parameters_;

@@ -21,18 +21,27 @@ Mat6 ElasticParameters::stiffness() const {
 }
 
 LinearElastic::LinearElastic(const ElasticParameters& parameters)
-    : parameters_(parameters), stiffness_((parameters.validate(), parameters.stiffness())) {}
+    : parameters_(parameters),
+      stiffness_((parameters.validate(), parameters.stiffness())),
+      two_shear_modulus_(2.0 * parameters.shear_modulus()),
+      lame_lambda_(parameters.bulk_modulus() - 2.0 / 3.0 * parameters.shear_modulus()) {}
 
 UpdateResult LinearElastic::update(MaterialState& state, const Vec6& strain_increment) const {
-  if (!strain_increment.allFinite() || !state.stress.allFinite() ||
-      !std::isfinite(state.void_ratio)) {
+  // The new state in temporaries; a non-finite input (or an overflow) leaves a non-finite value
+  // there, and 0 x (each value) sums to NaN exactly then: one check instead of one per input.
+  const double volumetric = trace(strain_increment);
+  Vec6 stress = state.stress + two_shear_modulus_ * strain_increment;
+  const double pressure_change = lame_lambda_ * volumetric;
+  for (int k = 0; k < 3; ++k) stress[k] += pressure_change;
+  const double void_ratio = state.void_ratio + (1.0 + state.void_ratio) * volumetric;
+  if (!std::isfinite((0.0 * stress).sum() + 0.0 * void_ratio + 0.0 * state.void_ratio)) {
     UpdateResult failed;
     failed.ok = false;
     failed.message = "linear elastic: non-finite stress, void ratio or strain increment";
     return failed;
   }
-  state.stress += stiffness_ * strain_increment;
-  state.void_ratio += (1.0 + state.void_ratio) * trace(strain_increment);
+  state.stress = stress;
+  state.void_ratio = void_ratio;
   UpdateResult result;
   result.substeps = 1;
   return result;

@@ -27,6 +27,10 @@ class LinearElastic final : public ConstitutiveModel {
  private:
   ElasticParameters parameters_;
   Mat6 stiffness_;
+  // The update as 2G Δε + λ tr(Δε) 1 (the product with stiffness_ to round-off, a fifth of the
+  // work).
+  double two_shear_modulus_;
+  double lame_lambda_;
 };
 
 }  // namespace pilempm

@@ -41,7 +41,11 @@ inline void rotate_state_about_z(MaterialState& state, double spin_increment) {
   const double scale = 1.0 / (1.0 + quarter_square);
   const double c = (1.0 - quarter_square) * scale, s = spin_increment * scale;
   rotate_about_z(state.stress, c, s);
-  rotate_about_z(state.intergranular_strain, c, s);
+  // A zero intergranular strain (a model without it) stays zero: skip the rotation.
+  const Vec6& delta = state.intergranular_strain;
+  if (delta[k11] != 0.0 || delta[k22] != 0.0 || delta[k12] != 0.0 || delta[k13] != 0.0 ||
+      delta[k23] != 0.0)
+    rotate_about_z(state.intergranular_strain, c, s);
 }
 
 }  // namespace pilempm::mpm

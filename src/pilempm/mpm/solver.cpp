@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/in_plane_rotation.hpp"
@@ -36,6 +37,24 @@ inline void for_each_node(const Stencil& stencil, int nx, NodeVisitor&& visit) {
       visit(row + i, stencil.x.weight[i] * weight_y, stencil.x.gradient[i] * weight_y,
             stencil.x.weight[i] * gradient_y);
     }
+  }
+}
+
+// Visits the rows of one particle's stencil: visit(first node of the row, node count, S_j(y),
+// dS_j/dy), the count a compile-time 3 for the usual 3 x 3 stencil. Sums over a row first and then
+// over the rows take fewer products than node by node.
+template <class RowVisitor>
+inline void for_each_row(const Stencil& stencil, int nx, RowVisitor&& visit) {
+  if (stencil.x.count == 3 && stencil.y.count == 3) {
+    for (int j = 0; j < 3; ++j) {
+      visit((stencil.y.first + j) * nx + stencil.x.first, std::integral_constant<int, 3>{},
+            stencil.y.weight[j], stencil.y.gradient[j]);
+    }
+    return;
+  }
+  for (int j = 0; j < stencil.y.count; ++j) {
+    visit((stencil.y.first + j) * nx + stencil.x.first, stencil.x.count, stencil.y.weight[j],
+          stencil.y.gradient[j]);
   }
 }
 
@@ -106,14 +125,11 @@ Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
   const std::size_t count = particles_.size();
   stencils_.resize(count);
   start_radius_.resize(count);
-  thread_grids_.resize(threads_ > 1 ? static_cast<std::size_t>(threads_) : 0);
+  thread_grids_.resize(static_cast<std::size_t>(threads_));
   thread_accounts_.resize(static_cast<std::size_t>(threads_));
   const auto nodes = static_cast<std::size_t>(grid_.node_count());
-  for (ThreadGrid& buffer : thread_grids_) {
-    for (std::vector<double>* field :
-         {&buffer.mass, &buffer.momentum_x, &buffer.momentum_y, &buffer.force_x, &buffer.force_y})
-      field->assign(nodes, 0.0);
-  }
+  for (ThreadGrid& buffer : thread_grids_) buffer.sums.assign(nodes, NodeSums{});
+  node_motion_.assign(nodes, NodeMotion{});
 
   update_dashpots();
   for (std::size_t p = 0; p < count; ++p) {
@@ -254,8 +270,7 @@ double Solver::step() {
 }
 
 void Solver::advance(double dt) {
-  particles_to_grid();      // weights at x^n; nodal mass, momentum, internal and external forces
-  update_grid(dt);          // momentum balance with damping and boundary conditions
+  particles_to_grid(dt);    // weights at x^n; nodal mass, momentum, forces; the grid update
   apply_contact(dt, true);  // rigid bodies: Coulomb frictional contact, forces on the bodies
   grid_to_particles(dt);    // FLIP/PIC velocities and positions (MUSL: new momentum to the grid)
   update_stress(dt);        // velocity gradient, Jaumann rotation, model update, F, volume
@@ -276,11 +291,10 @@ long Solver::run_until(double end_time) {
   return taken;
 }
 
-// Scatter without locks. With one thread the particles add straight into the grid's arrays.
-// With more, each thread adds into its own buffer, and then each node's sum is formed from the
-// buffers in thread order (over the node range each thread touched), which also clears them.
-// scatter_particle(p, sums, thread) adds particle p's share and leaves its stencil in stencils_;
-// finish_node(n) runs once node n's sums are complete.
+// Scatter without locks: each thread adds into its own buffer, and then each node's sum is formed
+// from the buffers in thread order (over the node range each thread touched), which also clears
+// them. scatter_particle(p, sums, thread) adds particle p's share and leaves its stencil in
+// stencils_; finish_node(n, thread) runs once node n's sums are complete.
 template <class ScatterParticle, class FinishNode>
 void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_particle,
                              FinishNode&& finish_node) {
@@ -288,22 +302,10 @@ void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_part
   const long node_count = grid_.node_count();
   const auto particle_count = static_cast<long>(particles_.size());
   const int nx = grid_.nx();
-  const bool direct = thread_grids_.empty();
 #pragma omp parallel num_threads(threads_)
   {
     const int thread = omp_get_thread_num();
-    NodalSums sums{nodes.mass.data(), nodes.momentum_x.data(), nodes.momentum_y.data(),
-                   nodes.force_x.data(), nodes.force_y.data()};
-    if (direct) {
-      for (long n = 0; n < node_count; ++n) {
-        nodes.momentum_x[n] = nodes.momentum_y[n] = 0.0;
-        if (mass_and_force) nodes.mass[n] = nodes.force_x[n] = nodes.force_y[n] = 0.0;
-      }
-    } else {
-      ThreadGrid& buffer = thread_grids_[thread];
-      sums = {buffer.mass.data(), buffer.momentum_x.data(), buffer.momentum_y.data(),
-              buffer.force_x.data(), buffer.force_y.data()};
-    }
+    NodeSums* const sums = thread_grids_[static_cast<std::size_t>(thread)].sums.data();
     int lowest_node = static_cast<int>(node_count), end_node = 0;
 #pragma omp for schedule(static)
     for (long p = 0; p < particle_count; ++p) {
@@ -313,52 +315,57 @@ void Solver::scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_part
       lowest_node = std::min(lowest_node, first);
       end_node = std::max(end_node, first + (stencil.y.count - 1) * nx + stencil.x.count);
     }
-    if (!direct) {
-      thread_grids_[thread].lowest_node = lowest_node;
-      thread_grids_[thread].end_node = end_node;
-    }
+    thread_grids_[static_cast<std::size_t>(thread)].lowest_node = lowest_node;
+    thread_grids_[static_cast<std::size_t>(thread)].end_node = end_node;
 #pragma omp barrier
     const int team = omp_get_num_threads();
 #pragma omp for schedule(static)
     for (long n = 0; n < node_count; ++n) {
-      if (!direct) {
-        double mass = 0.0, momentum_x = 0.0, momentum_y = 0.0, force_x = 0.0, force_y = 0.0;
-        for (int t = 0; t < team; ++t) {
-          ThreadGrid& buffer = thread_grids_[t];
-          if (n < buffer.lowest_node || n >= buffer.end_node) continue;
-          momentum_x += buffer.momentum_x[n];
-          momentum_y += buffer.momentum_y[n];
-          buffer.momentum_x[n] = buffer.momentum_y[n] = 0.0;
-          if (mass_and_force) {
-            mass += buffer.mass[n];
-            force_x += buffer.force_x[n];
-            force_y += buffer.force_y[n];
-            buffer.mass[n] = buffer.force_x[n] = buffer.force_y[n] = 0.0;
-          }
-        }
-        nodes.momentum_x[n] = momentum_x;
-        nodes.momentum_y[n] = momentum_y;
+      Vec2 momentum = Vec2::Zero(), force = Vec2::Zero();
+      double mass = 0.0;
+      for (int t = 0; t < team; ++t) {
+        ThreadGrid& buffer = thread_grids_[static_cast<std::size_t>(t)];
+        if (n < buffer.lowest_node || n >= buffer.end_node) continue;
+        NodeSums& node = buffer.sums[static_cast<std::size_t>(n)];
+        momentum += node.momentum;
+        node.momentum.setZero();
         if (mass_and_force) {
-          nodes.mass[n] = mass;
-          nodes.force_x[n] = force_x;
-          nodes.force_y[n] = force_y;
+          mass += node.mass;
+          force += node.force;
+          node.mass = 0.0;
+          node.force.setZero();
         }
       }
-      finish_node(n);
+      nodes.momentum_x[n] = momentum.x();
+      nodes.momentum_y[n] = momentum.y();
+      if (mass_and_force) {
+        nodes.mass[n] = mass;
+        nodes.force_x[n] = force.x();
+        nodes.force_y[n] = force.y();
+      }
+      finish_node(n, thread);
     }
   }
 }
 
-void Solver::particles_to_grid() {
+// Particles to grid and the grid update in one parallel pass: each node is updated as soon as
+// its sums are complete (in the scatter's node loop, split like a loop of its own).
+void Solver::particles_to_grid(double dt) {
   const Particles& p = particles_;
   const int nx = grid_.nx();
   const ShapeFunction shape = settings_.shape_function;
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
   const double mass_scaling = settings_.mass_scaling;
   const Vec2 gravity(0.0, -settings_.gravity_multiplier * settings_.gravity);
+  NodalFields& nodes = grid_.nodes();
+  const double* free_x = grid_.free_x().data();
+  const double* free_y = grid_.free_y().data();
+  const double alpha = settings_.local_damping;
+  const bool absorbing = !settings_.absorbing_boundaries.empty();
+  std::vector<ThreadAccount>& accounts = reset_thread_accounts();
   scatter_to_grid(
       true,
-      [&](long i, const NodalSums& to, int) {
+      [&](long i, NodeSums* to, int) {
         Stencil& stencil = stencils_[i];
         const Vec2& x = p.position[i];
         compute_stencil(grid_, shape, x.x(), x.y(), p.half_size[i].x(), p.half_size[i].y(),
@@ -375,62 +382,59 @@ void Solver::particles_to_grid() {
         // Axisymmetry: the hoop stress pulls the radial nodes by -V σ_θθ S_i / r_p.
         const double hoop_force = axisymmetric ? -volume * stress[k33] / x.x() : 0.0;
         const double radial_force = body_force.x() + hoop_force;
-        for_each_node(stencil, nx, [&](int n, double s, double ds_dx, double ds_dy) {
-          to.mass[n] += s * inertial_mass;
-          to.momentum_x[n] += s * momentum.x();
-          to.momentum_y[n] += s * momentum.y();
-          // f_i = S_i b_p - V_p σ_p ∇S_i
-          to.force_x[n] += s * radial_force - (v_sxx * ds_dx + v_sxy * ds_dy);
-          to.force_y[n] += s * body_force.y() - (v_sxy * ds_dx + v_syy * ds_dy);
+        for_each_row(stencil, nx, [&](int row, auto row_nodes, double weight_y, double gradient_y) {
+          // f_i = S_i b_p - V_p σ_p ∇S_i with S_i = S_x S_y, ∇S_i = (S_x' S_y, S_x S_y'): per
+          // row, the coefficients of S_x and S_x'.
+          const double row_mass = weight_y * inertial_mass;
+          const Vec2 row_momentum = weight_y * momentum;
+          const Vec2 force_weight(weight_y * radial_force - gradient_y * v_sxy,
+                                  weight_y * body_force.y() - gradient_y * v_syy);
+          const Vec2 force_gradient(-weight_y * v_sxx, -weight_y * v_sxy);
+          for (int k = 0; k < row_nodes; ++k) {
+            NodeSums& node = to[row + k];
+            const double weight_x = stencil.x.weight[k], gradient_x = stencil.x.gradient[k];
+            node.mass += weight_x * row_mass;
+            node.momentum += weight_x * row_momentum;
+            node.force += weight_x * force_weight + gradient_x * force_gradient;
+          }
         });
       },
-      [](long) {});
-}
-
-void Solver::update_grid(double dt) {
-  NodalFields& nodes = grid_.nodes();
-  const double* free_x = grid_.free_x().data();
-  const double* free_y = grid_.free_y().data();
-  const long node_count = grid_.node_count();
-  const double alpha = settings_.local_damping;
-  const bool absorbing = !settings_.absorbing_boundaries.empty();
-  std::vector<ThreadAccount>& accounts = reset_thread_accounts();
-#pragma omp parallel num_threads(threads_)
-  {
-    ThreadAccount& account = accounts[omp_get_thread_num()];
-#pragma omp for schedule(static)
-    for (long n = 0; n < node_count; ++n) {
-      const double mass = nodes.mass[n];
-      if (mass <= 0.0) {
-        nodes.velocity_x[n] = nodes.velocity_y[n] = 0.0;
-        nodes.velocity_change_x[n] = nodes.velocity_change_y[n] = 0.0;
-        continue;
-      }
-      const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
-      // Local non-viscous damping (Cundall 1987): f_damped = f - α |f| sign(v), per component.
-      const double damping_x = -alpha * std::abs(nodes.force_x[n]) * sign(vx);
-      const double damping_y = -alpha * std::abs(nodes.force_y[n]) * sign(vy);
-      // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP. A dashpot
-      // -C v^L (absorbing boundary) is taken implicitly: v^L = (m v + f dt) / (m + C dt).
-      double new_vx = vx + (nodes.force_x[n] + damping_x) * dt / mass;
-      double new_vy = vy + (nodes.force_y[n] + damping_y) * dt / mass;
-      if (absorbing) {
-        const double cx = dashpot_x_[n], cy = dashpot_y_[n];
-        if (cx > 0.0) new_vx *= mass / (mass + cx * dt);
-        if (cy > 0.0) new_vy *= mass / (mass + cy * dt);
-        // Work of the dashpot force -C v^L over the step, with the mean velocity.
-        account.sum[1] += 0.5 * dt * (cx * new_vx * (vx + new_vx) + cy * new_vy * (vy + new_vy));
-      }
-      new_vx *= free_x[n];
-      new_vy *= free_y[n];
-      nodes.velocity_x[n] = new_vx;
-      nodes.velocity_y[n] = new_vy;
-      nodes.velocity_change_x[n] = new_vx - vx;
-      nodes.velocity_change_y[n] = new_vy - vy;
-      // Work of the damping force over the step, with the mean of the old and new velocities.
-      account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
-    }
-  }
+      [&](long n, int thread) {
+        // The grid update of node n: momentum balance with damping and boundary conditions.
+        ThreadAccount& account = accounts[static_cast<std::size_t>(thread)];
+        const double mass = nodes.mass[n];
+        if (mass <= 0.0) {
+          nodes.velocity_x[n] = nodes.velocity_y[n] = 0.0;
+          nodes.velocity_change_x[n] = nodes.velocity_change_y[n] = 0.0;
+          node_motion_[static_cast<std::size_t>(n)] = NodeMotion{};
+          return;
+        }
+        const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
+        // Local non-viscous damping (Cundall 1987): f_damped = f - α |f| sign(v), per component.
+        const double damping_x = -alpha * std::abs(nodes.force_x[n]) * sign(vx);
+        const double damping_y = -alpha * std::abs(nodes.force_y[n]) * sign(vy);
+        // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP. A dashpot
+        // -C v^L (absorbing boundary) is taken implicitly: v^L = (m v + f dt) / (m + C dt).
+        double new_vx = vx + (nodes.force_x[n] + damping_x) * dt / mass;
+        double new_vy = vy + (nodes.force_y[n] + damping_y) * dt / mass;
+        if (absorbing) {
+          const double cx = dashpot_x_[n], cy = dashpot_y_[n];
+          if (cx > 0.0) new_vx *= mass / (mass + cx * dt);
+          if (cy > 0.0) new_vy *= mass / (mass + cy * dt);
+          // Work of the dashpot force -C v^L over the step, with the mean velocity.
+          account.sum[1] += 0.5 * dt * (cx * new_vx * (vx + new_vx) + cy * new_vy * (vy + new_vy));
+        }
+        new_vx *= free_x[n];
+        new_vy *= free_y[n];
+        nodes.velocity_x[n] = new_vx;
+        nodes.velocity_y[n] = new_vy;
+        nodes.velocity_change_x[n] = new_vx - vx;
+        nodes.velocity_change_y[n] = new_vy - vy;
+        node_motion_[static_cast<std::size_t>(n)] = {Vec2(new_vx, new_vy),
+                                                     Vec2(new_vx - vx, new_vy - vy)};
+        // Work of the damping force over the step, with the mean of the old and new velocities.
+        account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
+      });
   for (const ThreadAccount& account : accounts) {
     energies_.damping += account.sum[0];
     energies_.absorbed += account.sum[1];
@@ -569,9 +573,11 @@ void Solver::apply_contact(double dt, bool forces) {
         }
         nodes.velocity_x[n] = undamped.x() + change.x();
         nodes.velocity_y[n] = undamped.y() + change.y();
+        node_motion_[static_cast<std::size_t>(n)].velocity += change - damping_change;
         if (forces) {
           nodes.velocity_change_x[n] += change.x() - damping_change.x();
           nodes.velocity_change_y[n] += change.y() - damping_change.y();
+          node_motion_[static_cast<std::size_t>(n)].change += change - damping_change;
           energies_.damping -= damped_work;
           const Vec2 on_body = -mass * change / dt;
           force.total += on_body;
@@ -586,7 +592,7 @@ void Solver::apply_contact(double dt, bool forces) {
 
 void Solver::grid_to_particles(double dt) {
   Particles& p = particles_;
-  const NodalFields& nodes = grid_.nodes();
+  const NodeMotion* motion = node_motion_.data();
   const auto count = static_cast<long>(p.size());
   const int nx = grid_.nx();
   const double flip = settings_.flip_fraction;
@@ -598,8 +604,9 @@ void Solver::grid_to_particles(double dt) {
   auto move_particle = [&](long i, ThreadAccount& account) -> Vec2 {
     Vec2 grid_velocity = Vec2::Zero(), velocity_change = Vec2::Zero();
     for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
-      grid_velocity += s * Vec2(nodes.velocity_x[n], nodes.velocity_y[n]);
-      velocity_change += s * Vec2(nodes.velocity_change_x[n], nodes.velocity_change_y[n]);
+      const NodeMotion& node = motion[n];
+      grid_velocity += s * node.velocity;
+      velocity_change += s * node.change;
     });
     // FLIP/PIC blend of the particle velocity; the particle moves with the grid velocity.
     p.velocity[i] = flip * (p.velocity[i] + velocity_change) + (1.0 - flip) * grid_velocity;
@@ -607,11 +614,13 @@ void Solver::grid_to_particles(double dt) {
     account.sum[0] += (p.mass[i] * gravity + p.external_force[i]).dot(displacement);
     p.position[i] += displacement;
     const double inertial_mass = mass_scaling * p.mass[i];
-    const double speed = p.velocity[i].norm();
-    account.sum[1] += 0.5 * inertial_mass * speed * speed;
-    account.max = std::max(account.max, speed);
+    // |v|^2: the largest speed is the root of the largest square (taken after the loop).
+    const double squared_speed = p.velocity[i].squaredNorm();
+    account.sum[1] += 0.5 * inertial_mass * squared_speed;
+    account.max = std::max(account.max, squared_speed);
     const Vec2& x = p.position[i];
-    if (!(std::isfinite(speed) && grid_.contains(x.x(), x.y()) && (!axisymmetric || x.x() > 0.0)) &&
+    if (!(p.velocity[i].allFinite() && grid_.contains(x.x(), x.y()) &&
+          (!axisymmetric || x.x() > 0.0)) &&
         static_cast<std::size_t>(i) < account.failed_particle) {
       account.failed_particle = static_cast<std::size_t>(i);
       account.failure =
@@ -628,18 +637,20 @@ void Solver::grid_to_particles(double dt) {
     const double* free_y = grid_.free_y().data();
     scatter_to_grid(
         false,
-        [&](long i, const NodalSums& to, int thread) {
+        [&](long i, NodeSums* to, int thread) {
           const Vec2 momentum = move_particle(i, accounts[thread]);
-          for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
-            to.momentum_x[n] += s * momentum.x();
-            to.momentum_y[n] += s * momentum.y();
-          });
+          for_each_node(stencils_[i], nx,
+                        [&](int n, double s, double, double) { to[n].momentum += s * momentum; });
         },
-        [&](long n) {  // the nodal velocity from the new momentum, with the boundary conditions
+        [&](long n,
+            int) {  // the nodal velocity from the new momentum, with the boundary conditions
           const double mass = grid_nodes.mass[n];
           const double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0;
-          grid_nodes.velocity_x[n] = free_x[n] * grid_nodes.momentum_x[n] * inverse_mass;
-          grid_nodes.velocity_y[n] = free_y[n] * grid_nodes.momentum_y[n] * inverse_mass;
+          const double vx = free_x[n] * grid_nodes.momentum_x[n] * inverse_mass;
+          const double vy = free_y[n] * grid_nodes.momentum_y[n] * inverse_mass;
+          grid_nodes.velocity_x[n] = vx;
+          grid_nodes.velocity_y[n] = vy;
+          node_motion_[static_cast<std::size_t>(n)].velocity = Vec2(vx, vy);
         });
     // The remapped velocities obey the contact too, so the strain rate sees no penetration.
     apply_contact(dt, false);
@@ -665,6 +676,7 @@ void Solver::grid_to_particles(double dt) {
       failure = account.failure;
     }
   }
+  max_particle_speed_ = std::sqrt(max_particle_speed_);
   if (failed != kNoParticle) fail_at_particle(failed, failure);
 }
 
@@ -713,7 +725,6 @@ void Solver::smooth_volumetric_increments(Kinematics&& kinematics) {
 
 void Solver::update_stress(double dt) {
   Particles& p = particles_;
-  const NodalFields& nodes = grid_.nodes();
   const auto count = static_cast<long>(p.size());
   const int nx = grid_.nx();
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
@@ -721,18 +732,25 @@ void Solver::update_stress(double dt) {
   const bool smoothing = settings_.volumetric_smoothing;
   // Kinematics of particle i over the step: the in-plane increment L dt, with the velocity
   // gradient L_ab = Σ v_ia dS_i/dx_b, and the hoop increment v_r dt / r (axisymmetry).
+  const NodeMotion* motion = node_motion_.data();
   auto kinematics = [&](long i, Mat2& increment, double& hoop_increment) {
-    Mat2 velocity_gradient = Mat2::Zero();
-    double radial_velocity = 0.0;
-    for_each_node(stencils_[i], nx, [&](int n, double s, double ds_dx, double ds_dy) {
-      const double vx = nodes.velocity_x[n], vy = nodes.velocity_y[n];
-      velocity_gradient(0, 0) += vx * ds_dx;
-      velocity_gradient(0, 1) += vx * ds_dy;
-      velocity_gradient(1, 0) += vy * ds_dx;
-      velocity_gradient(1, 1) += vy * ds_dy;
-      radial_velocity += s * vx;
+    const Stencil& stencil = stencils_[i];
+    double dvx_dx = 0.0, dvx_dy = 0.0, dvy_dx = 0.0, dvy_dy = 0.0, radial_velocity = 0.0;
+    for_each_row(stencil, nx, [&](int row, auto row_nodes, double weight_y, double gradient_y) {
+      // Along the row: Σ S_x' v and Σ S_x v; then times S_y or S_y'.
+      Vec2 gradient_v = Vec2::Zero(), weight_v = Vec2::Zero();
+      for (int k = 0; k < row_nodes; ++k) {
+        const Vec2& v = motion[row + k].velocity;
+        gradient_v += stencil.x.gradient[k] * v;
+        weight_v += stencil.x.weight[k] * v;
+      }
+      dvx_dx += weight_y * gradient_v.x();
+      dvx_dy += gradient_y * weight_v.x();
+      dvy_dx += weight_y * gradient_v.y();
+      dvy_dy += gradient_y * weight_v.y();
+      radial_velocity += weight_y * weight_v.x();
     });
-    increment = dt * velocity_gradient;
+    increment << dt * dvx_dx, dt * dvx_dy, dt * dvy_dx, dt * dvy_dy;
     hoop_increment = axisymmetric ? dt * radial_velocity / start_radius_[i] : 0.0;
   };
   if (smoothing) smooth_volumetric_increments(kinematics);
@@ -775,7 +793,8 @@ void Solver::update_stress(double dt) {
       deformation = (Mat2::Identity() + increment) * deformation;
       p.out_of_plane_stretch[i] *= 1.0 + hoop_increment;
       const double volume_before = p.volume[i];
-      p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
+      const double jacobian = deformation.determinant();
+      p.volume[i] = jacobian * p.out_of_plane_stretch[i] * p.initial_volume[i];
       // Strain work with the mean stress and mean volume over the step (trapezoidal rule).
       account.sum[0] += 0.25 * (volume_before + p.volume[i]) *
                         (stress_before + state.stress).dot(strain_increment);
@@ -784,7 +803,7 @@ void Solver::update_stress(double dt) {
         // cpGIMP: the domain's half-lengths follow the stretch V = sqrt(F F^T) along x and y
         // (2x2 square root: sqrt(B) = (B + sqrt(det B) I) / sqrt(tr B + 2 sqrt(det B))).
         const Mat2 left_cauchy_green = deformation * deformation.transpose();
-        const double root_det = std::abs(deformation.determinant());
+        const double root_det = std::abs(jacobian);
         const double scale = 1.0 / std::sqrt(left_cauchy_green.trace() + 2.0 * root_det);
         p.half_size[i] =
             p.initial_half_size[i].cwiseProduct(Vec2((left_cauchy_green(0, 0) + root_det) * scale,

@@ -17,8 +17,8 @@
 // is zero on the axis r = 0.
 //
 // Threads (OpenMP): particle loops are split statically; the scatter to the grid goes to one
-// nodal array per thread (thread 0 writes the grid's own), summed in thread order, so a run is
-// deterministic for a given thread count and differs between thread counts by round-off only.
+// nodal buffer per thread, summed in thread order, so a run is deterministic for a given thread
+// count and differs between thread counts by round-off only.
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -188,8 +188,8 @@ class Solver {
  private:
   // One step of length dt: the steps of the algorithm, in order.
   void advance(double dt);
-  void particles_to_grid();
-  void update_grid(double dt);
+  // Particles to grid, then the grid update (momentum balance, damping, boundary conditions).
+  void particles_to_grid(double dt);
   void grid_to_particles(double dt);
   void update_stress(double dt);
   template <class Kinematics>
@@ -198,13 +198,11 @@ class Solver {
   // and the contact forces of the step.
   void apply_contact(double dt, bool forces);
 
-  // Pointers to one set of nodal sums: the grid's own arrays or a thread's buffer.
-  struct NodalSums {
-    double* mass;
-    double* momentum_x;
-    double* momentum_y;
-    double* force_x;
-    double* force_y;
+  // One node's sums in a thread's buffer, the x and y components side by side (SIMD pairs).
+  struct NodeSums {
+    Vec2 momentum = Vec2::Zero();
+    Vec2 force = Vec2::Zero();
+    double mass = 0.0;
   };
   template <class ScatterParticle, class FinishNode>
   void scatter_to_grid(bool mass_and_force, ScatterParticle&& scatter_particle,
@@ -233,10 +231,17 @@ class Solver {
   std::vector<Stencil> stencils_;
   std::vector<double> start_radius_;
 
-  // Per-thread nodal sums (none with one thread, which scatters into the grid), and the node
-  // range each one touched.
+  // The nodal velocity and its change over the step side by side, for the gathers: a copy of the
+  // grid's velocity_x, _y and velocity_change_x, _y, kept equal to them within a step.
+  struct NodeMotion {
+    Vec2 velocity = Vec2::Zero();
+    Vec2 change = Vec2::Zero();
+  };
+  std::vector<NodeMotion> node_motion_;
+
+  // Per-thread nodal sums, and the node range each one touched.
   struct ThreadGrid {
-    std::vector<double> mass, momentum_x, momentum_y, force_x, force_y;
+    std::vector<NodeSums> sums;
     int lowest_node = 0, end_node = 0;
   };
   std::vector<ThreadGrid> thread_grids_;
