@@ -5,7 +5,7 @@
 # writes results/verification/summary.md and draws docs/figures/verification/*.png.
 # Exits non-zero when a run or a check fails.
 #
-#   bash scripts/verification.sh                 # all the cases (about 2 minutes on one core)
+#   bash scripts/verification.sh                 # all the cases (about 2.5 minutes on one core)
 #   bash scripts/verification.sh --long          # and the finer collapse a = 4 (+ ~40 s)
 #   bash scripts/verification.sh bar_vibration   # only the named cases, then their checks
 #   bash scripts/verification.sh --plots-only    # the checks and figures of the results there
