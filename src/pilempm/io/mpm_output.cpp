@@ -137,8 +137,8 @@ std::string mpm_bodies_header(const mpm::Solver& solver) {
   const bool axisymmetric = solver.settings().geometry == mpm::Geometry::axisymmetric;
   std::string header = fmt::format(
       "# rigid bodies: displacement since t = 0, velocity, contact force of the soil on the body "
-      "over the last step in {} (+y up: a body pushed down into soil gets force_y > 0), in "
-      "total and per surface part\n",
+      "(the mean over the time since the previous row of the body) in {} (+y up: a body pushed "
+      "down into soil gets force_y > 0), in total and per surface part\n",
       axisymmetric ? "N of the full body (2 pi times the per-radian force; force_x = 0, the "
                      "radial forces cancel around the axis)"
                    : "N per metre of thickness (plane strain)");
@@ -154,8 +154,38 @@ std::string mpm_bodies_header(const mpm::Solver& solver) {
   return header;
 }
 
+void MpmBodyForceMeans::add_step(const mpm::Solver& solver, double dt) {
+  impulse_.resize(static_cast<std::size_t>(solver.rigid_body_count()));
+  for (int b = 0; b < solver.rigid_body_count(); ++b) {
+    const mpm::RigidBodyForce& force = solver.rigid_body_force(b);
+    mpm::RigidBodyForce& sum = impulse_[static_cast<std::size_t>(b)];
+    sum.parts.resize(force.parts.size(), mpm::Vec2::Zero());
+    sum.total += dt * force.total;
+    for (std::size_t k = 0; k < force.parts.size(); ++k) sum.parts[k] += dt * force.parts[k];
+  }
+  elapsed_ += dt;
+}
+
+std::vector<mpm::RigidBodyForce> MpmBodyForceMeans::take(const mpm::Solver& solver) {
+  std::vector<mpm::RigidBodyForce> means;
+  for (int b = 0; b < solver.rigid_body_count(); ++b) {
+    if (elapsed_ > 0.0 && static_cast<std::size_t>(b) < impulse_.size()) {
+      mpm::RigidBodyForce mean = impulse_[static_cast<std::size_t>(b)];
+      mean.total /= elapsed_;
+      for (mpm::Vec2& part : mean.parts) part /= elapsed_;
+      means.push_back(std::move(mean));
+    } else {
+      means.push_back(solver.rigid_body_force(b));
+    }
+  }
+  impulse_.clear();
+  elapsed_ = 0.0;
+  return means;
+}
+
 std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::string>& body_names,
-                            const std::string& phase) {
+                            const std::string& phase,
+                            const std::vector<mpm::RigidBodyForce>* forces) {
   const mpm::Geometry geometry = solver.settings().geometry;
   const double factor = mpm_full_body_factor(geometry);
   const double radial = geometry == mpm::Geometry::axisymmetric ? 0.0 : 1.0;
@@ -163,7 +193,8 @@ std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::st
   std::string rows;
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
     const mpm::RigidBody& body = solver.rigid_body(b);
-    const mpm::RigidBodyForce& force = solver.rigid_body_force(b);
+    const mpm::RigidBodyForce& force =
+        forces != nullptr ? forces->at(static_cast<std::size_t>(b)) : solver.rigid_body_force(b);
     rows += fmt::format(
         "{:.10g},{},{},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", solver.time(),
         solver.steps(), csv_field(phase), csv_field(body_names.at(static_cast<std::size_t>(b))),
@@ -300,11 +331,15 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
     if (with_bodies) write_file_atomically(summary.bodies_file, bodies);
   };
   double last_rows = -1.0;
+  MpmBodyForceMeans force_means;
   auto add_rows = [&](const std::string& phase) {
     if (solver.time() == last_rows) return;
     last_rows = solver.time();
     energies += mpm_energies_row(solver, solver.next_time_step());
-    if (with_bodies) bodies += mpm_bodies_rows(solver, body_names, phase);
+    if (with_bodies) {
+      const std::vector<mpm::RigidBodyForce> means = force_means.take(solver);
+      bodies += mpm_bodies_rows(solver, body_names, phase, &means);
+    }
   };
   double last_snapshot = -1.0;
   auto snapshot = [&] {
@@ -372,10 +407,12 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
         const double next_energy = series_time(phase.energy_interval, energy_count);
         const double target = std::min(next_output, next_energy);
         const MpmStepPlan plan = control.plan_step(target);
+        const double step_start = solver.time();
         if (plan.own_step)
           solver.step();
         else
           solver.run_until(plan.end);
+        if (with_bodies) force_means.add_step(solver, solver.time() - step_start);
         progress.update(phase.name, phase_end, solver);
         end.reason = control.stop_reason(plan.landing_rule);
         if (!end.reason.empty() || plan.own_step || plan.landing_rule >= 0) continue;

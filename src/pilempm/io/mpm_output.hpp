@@ -33,9 +33,27 @@ std::string mpm_bodies_header(const mpm::Solver& solver);
 /// One row per body of bodies.csv at the solver's time; `body_names` by body index, `phase` the
 /// name of the phase. Forces are those of the full body in axisymmetry (2π times the solver's
 /// per-radian force; the radial force_x is 0: it cancels around the axis), per metre in plane
-/// strain.
+/// strain: `forces` by body index when given (the means since the previous row), else those of
+/// the solver's last step.
 std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::string>& body_names,
-                            const std::string& phase);
+                            const std::string& phase,
+                            const std::vector<mpm::RigidBodyForce>* forces = nullptr);
+
+/// The contact forces on the bodies averaged over time between two rows of bodies.csv,
+/// Σ F Δt / Σ Δt over the steps: the force of a single step carries the noise of the nodal
+/// contact (nodes coming into contact), the mean over an interval is what a load cell shows.
+class MpmBodyForceMeans {
+ public:
+  /// Adds the solver's last step, of length `dt` [s].
+  void add_step(const mpm::Solver& solver, double dt);
+  /// The means since the last take() (the last step's forces when no time has passed), and a
+  /// new start.
+  std::vector<mpm::RigidBodyForce> take(const mpm::Solver& solver);
+
+ private:
+  std::vector<mpm::RigidBodyForce> impulse_;
+  double elapsed_ = 0.0;
+};
 
 /// A progress line on a stream, at most one per `min_interval` of wall time.
 class MpmProgress {
