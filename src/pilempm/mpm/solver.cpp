@@ -62,6 +62,11 @@ inline double sign(double value) {
   return value > 0.0 ? 1.0 : (value < 0.0 ? -1.0 : 0.0);
 }
 
+// Local non-viscous damping (Cundall 1987) of one nodal force component: -α |f| sign(v).
+inline double local_damping_force(double alpha, double force, double velocity) {
+  return -alpha * std::abs(force) * sign(velocity);
+}
+
 }  // namespace
 
 void SolverSettings::validate() const {
@@ -410,9 +415,9 @@ void Solver::particles_to_grid(double dt) {
           return;
         }
         const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
-        // Local non-viscous damping (Cundall 1987): f_damped = f - α |f| sign(v), per component.
-        const double damping_x = -alpha * std::abs(nodes.force_x[n]) * sign(vx);
-        const double damping_y = -alpha * std::abs(nodes.force_y[n]) * sign(vy);
+        // Local non-viscous damping: f_damped = f - α |f| sign(v), per component.
+        const double damping_x = local_damping_force(alpha, nodes.force_x[n], vx);
+        const double damping_y = local_damping_force(alpha, nodes.force_y[n], vy);
         // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP. A dashpot
         // -C v^L (absorbing boundary) is taken implicitly: v^L = (m v + f dt) / (m + C dt).
         double new_vx = vx + (nodes.force_x[n] + damping_x) * dt / mass;
@@ -545,8 +550,8 @@ void Solver::apply_contact(double dt, bool forces) {
         if (forces && alpha > 0.0 &&
             (dashpot_x_.empty() || (dashpot_x_[n] == 0.0 && dashpot_y_[n] == 0.0))) {
           const Vec2 old_velocity = Vec2(nodes.momentum_x[n], nodes.momentum_y[n]) / mass;
-          const Vec2 damping_force(-alpha * std::abs(nodes.force_x[n]) * sign(old_velocity.x()),
-                                   -alpha * std::abs(nodes.force_y[n]) * sign(old_velocity.y()));
+          const Vec2 damping_force(local_damping_force(alpha, nodes.force_x[n], old_velocity.x()),
+                                   local_damping_force(alpha, nodes.force_y[n], old_velocity.y()));
           damping_change =
               Vec2(free_x[n] * damping_force.x(), free_y[n] * damping_force.y()) * (dt / mass);
           damped_work =
