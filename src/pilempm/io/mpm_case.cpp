@@ -396,6 +396,17 @@ void read_stop_rules(TableReader& t, const MpmCase& c, MpmPhase& p) {
       throw t.error(k.key, "must be a non-zero displacement [m] (its sign gives the direction)");
     p.stop_rules.push_back({k.key, k.quantity, k.component, *value});
   }
+  if (t.contains("stop_force_averaging_s")) {
+    const bool force_rule =
+        std::any_of(p.stop_rules.begin(), p.stop_rules.end(), [](const MpmStopRule& r) {
+          return r.quantity == MpmStopQuantity::force_below ||
+                 r.quantity == MpmStopQuantity::force_above;
+        });
+    if (!force_rule)
+      throw t.error("stop_force_averaging_s",
+                    "not allowed without a force stop rule (stop_force_y_below_N, ...)");
+    p.stop_force_averaging = t.number("stop_force_averaging_s", NumberRange::non_negative());
+  }
   const std::optional<std::string> body = t.optional_string("stop_body");
   if (p.stop_rules.empty()) {
     if (body)
@@ -655,7 +666,21 @@ mpm::Particles make_mpm_particles(const MpmCase& c, const mpm::Grid& grid) {
     for (std::size_t p = first; p < particles.size(); ++p)
       geostatic_state(c, r, model, particles.position[p], gravity, particles.state[p]);
   }
-  return particles;
+  if (c.bodies.empty()) return particles;
+  // A body stands where it is put (a pile wished in place): no particle starts inside it.
+  std::vector<mpm::RigidBody> bodies;
+  for (const MpmBody& b : c.bodies) bodies.push_back(make_rigid_body(b));
+  mpm::Particles outside;
+  outside.reserve(particles.size());
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const mpm::Vec2& x = particles.position[p];
+    if (std::any_of(bodies.begin(), bodies.end(),
+                    [&](const mpm::RigidBody& b) { return b.signed_distance(x) < 0.0; }))
+      continue;
+    outside.add({x, particles.velocity[p], particles.mass[p], particles.initial_volume[p],
+                 particles.initial_half_size[p], particles.material[p], particles.state[p]});
+  }
+  return outside;
 }
 
 void set_geostatic_state(const MpmCase& c, mpm::Solver& solver, double gravity) {

@@ -124,6 +124,9 @@ struct MpmPhase {
   std::vector<MpmBodyMotion> body_motion;  ///< by body index
   int stop_body = -1;                      ///< the body the stop rules watch (-1: none)
   std::vector<MpmStopRule> stop_rules;
+  /// Time constant of the exponential moving average of the force that force stop rules compare
+  /// [s]; 0: the force of the last step.
+  double stop_force_averaging = 0.0;
   std::vector<MpmMaterialChange> material_changes;
 };
 

@@ -24,8 +24,9 @@ namespace {
 
 constexpr double kKPa = 1.0e3;
 
-// ||δ|| / R of each model with intergranular strain (0: none).
-std::vector<double> igs_sizes(const mpm::Solver& solver) {
+}  // namespace
+
+std::vector<double> mpm_igs_sizes(const mpm::Solver& solver) {
   std::vector<double> sizes;
   for (const ModelPtr& model : solver.materials()) {
     const auto* hypoplastic = dynamic_cast<const Hypoplastic*>(model.get());
@@ -36,14 +37,12 @@ std::vector<double> igs_sizes(const mpm::Solver& solver) {
   return sizes;
 }
 
-}  // namespace
-
 PointCloud mpm_particle_cloud(const mpm::Solver& solver,
                               const std::vector<mpm::Vec2>& initial_position,
                               const std::vector<int>& material_index) {
   const mpm::Particles& particles = solver.particles();
   const std::size_t n = particles.size();
-  const std::vector<double> igs_size = igs_sizes(solver);
+  const std::vector<double> igs_size = mpm_igs_sizes(solver);
   const bool any_igs =
       std::any_of(igs_size.begin(), igs_size.end(), [](double r) { return r > 0; });
 
@@ -256,7 +255,8 @@ constexpr const char* kSeriesRecord = "particles.pvd";  // "time<TAB>file relati
 }  // namespace
 
 MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_dir,
-                           std::ostream* progress_stream, const std::filesystem::path& restart) {
+                           std::ostream* progress_stream, const std::filesystem::path& restart,
+                           const MpmRunHooks& hooks) {
   prepare_output_directory(out_dir);
   mpm::Solver solver = make_mpm_solver(c);
   const std::vector<mpm::Vec2> traction_forces =
@@ -412,7 +412,9 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
           solver.step();
         else
           solver.run_until(plan.end);
+        control.record_step(solver.time() - step_start);
         if (with_bodies) force_means.add_step(solver, solver.time() - step_start);
+        if (hooks.after_step) hooks.after_step(solver, phase, solver.time() - step_start);
         progress.update(phase.name, phase_end, solver);
         end.reason = control.stop_reason(plan.landing_rule);
         if (!end.reason.empty() || plan.own_step || plan.landing_rule >= 0) continue;
@@ -429,6 +431,7 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
       }
       add_rows(phase.name);
       snapshot();
+      if (hooks.phase_end) hooks.phase_end(solver, phase);
     } catch (const InputError&) {
       throw;
     } catch (const Error& e) {

@@ -5,6 +5,7 @@
 // on stderr; and the run loop over the phases of a case. Files are written atomically.
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -14,6 +15,10 @@
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm {
+
+/// The size R of the intergranular strain of each of the solver's models (0: none), by which
+/// ρ = ||δ|| / R.
+std::vector<double> mpm_igs_sizes(const mpm::Solver& solver);
 
 /// The particles as a point cloud, with the fields listed in docs/mpm-case-files.md.
 /// `initial_position` gives the displacement; `material_index` maps a model index to the index
@@ -92,6 +97,14 @@ struct MpmRunSummary {
   std::size_t first_phase = 0;                     ///< > 0 when restarted
 };
 
+/// What a caller may do during a run, besides the files (both may be empty): after every step
+/// (the solver, the phase, the step's length), and at the end of every phase (after its last
+/// snapshot, before its checkpoint).
+struct MpmRunHooks {
+  std::function<void(const mpm::Solver&, const MpmPhase&, double)> after_step;
+  std::function<void(const mpm::Solver&, const MpmPhase&)> phase_end;
+};
+
 /// Runs the phases of a case, writing into `out_dir` (created if needed): particles_NNNNN.vtu,
 /// particles.pvd, energies.csv, with rigid bodies bodies.csv, and at the end of each phase that
 /// asks for it checkpoint_NN_<phase>.h5 (NN: the number of phases done). Progress lines and the
@@ -101,7 +114,8 @@ struct MpmRunSummary {
 /// start with the records the checkpoint holds. Throws Error naming the phase when the solver
 /// fails; what was written up to then stays valid.
 MpmRunSummary run_mpm_case(const MpmCase& mpm_case, const std::filesystem::path& out_dir,
-                           std::ostream* progress, const std::filesystem::path& restart = {});
+                           std::ostream* progress, const std::filesystem::path& restart = {},
+                           const MpmRunHooks& hooks = {});
 
 /// The file name of the checkpoint after `phases_done` phases, the last one named `phase`:
 /// checkpoint_NN_<phase>.h5 with characters other than letters, digits, '-', '_' and '.'

@@ -91,6 +91,18 @@ MpmStepPlan MpmPhaseControl::plan_step(double target) {
   return plan;
 }
 
+void MpmPhaseControl::record_step(double dt) {
+  if (phase_.stop_body < 0) return;
+  const mpm::Vec2 force =
+      solver_.rigid_body_force(phase_.stop_body).total * mpm_full_body_factor(case_.geometry);
+  // An exponential moving average with time constant τ (the force itself when τ = 0): the
+  // exact solution of τ df/dt = F − f over a step with F constant.
+  const double tau = phase_.stop_force_averaging;
+  const double weight = has_mean_force_ && tau > 0.0 ? std::exp(-dt / tau) : 0.0;
+  mean_force_ = weight * mean_force_ + (1.0 - weight) * force;
+  has_mean_force_ = true;
+}
+
 std::string MpmPhaseControl::stop_reason(int landing_rule) const {
   if (phase_.stop_body < 0) return "";
   const MpmBody& b = case_.bodies.at(static_cast<std::size_t>(phase_.stop_body));
@@ -109,9 +121,8 @@ std::string MpmPhaseControl::stop_reason(int landing_rule) const {
                            b.name, axis[i], d);
       continue;
     }
-    if (solver_.time() <= start_time_) continue;  // no step of this phase yet
-    const double force =
-        solver_.rigid_body_force(phase_.stop_body).total[i] * mpm_full_body_factor(case_.geometry);
+    if (!has_mean_force_) continue;  // no step of this phase yet
+    const double force = mean_force_[i];
     const bool met =
         rule.quantity == MpmStopQuantity::force_below ? force < rule.value : force > rule.value;
     if (met)

@@ -46,6 +46,10 @@ class MpmPhaseControl {
   /// `landing_rule`: the plan's, when the step was taken.
   std::string stop_reason(int landing_rule = -1) const;
 
+  /// After each step of length `dt` [s]: updates the averaged force the force rules compare
+  /// (MpmPhase::stop_force_averaging).
+  void record_step(double dt);
+
  private:
   mpm::Vec2 velocity_at(std::size_t body, double time) const;
   double goal(const MpmStopRule& rule) const;
@@ -57,6 +61,8 @@ class MpmPhaseControl {
   std::vector<mpm::Vec2> start_velocity_;      // by body
   std::vector<mpm::Vec2> start_displacement_;  // by body
   std::vector<double> sense_;                  // by stop rule: +1 / -1 towards a displacement
+  mpm::Vec2 mean_force_ = mpm::Vec2::Zero();   // of the stop body, full body [N]
+  bool has_mean_force_ = false;
 };
 
 }  // namespace pilempm

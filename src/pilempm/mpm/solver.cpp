@@ -429,6 +429,9 @@ void Solver::particles_to_grid(double dt) {
           // Work of the dashpot force -C v^L over the step, with the mean velocity.
           account.sum[1] += 0.5 * dt * (cx * new_vx * (vx + new_vx) + cy * new_vy * (vy + new_vy));
         }
+        // The constraint's force: what takes the free velocity to the held one.
+        account.sum[2] += (1.0 - free_x[n]) * (-mass * new_vx / dt);
+        account.sum[3] += (1.0 - free_y[n]) * (-mass * new_vy / dt);
         new_vx *= free_x[n];
         new_vy *= free_y[n];
         nodes.velocity_x[n] = new_vx;
@@ -440,9 +443,11 @@ void Solver::particles_to_grid(double dt) {
         // Work of the damping force over the step, with the mean of the old and new velocities.
         account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
       });
+  boundary_reaction_ = Vec2::Zero();
   for (const ThreadAccount& account : accounts) {
     energies_.damping += account.sum[0];
     energies_.absorbed += account.sum[1];
+    boundary_reaction_ += Vec2(account.sum[2], account.sum[3]);
   }
 }
 

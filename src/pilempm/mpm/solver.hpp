@@ -174,6 +174,11 @@ class Solver {
     return rigid_body_forces_.at(static_cast<std::size_t>(index));
   }
 
+  /// The force the grid's boundary constraints (roller, fixed, the axis) exerted on the soil in
+  /// the last step: Σ over constrained node components of m Δv / Δt − f (the force that holds
+  /// them), per radian in axisymmetry [N]. Dashpots and contacts are not in it.
+  const Vec2& boundary_reaction() const { return boundary_reaction_; }
+
   /// The state a checkpoint needs besides particles, bodies and settings.
   SolverRunState run_state() const;
   /// Restores a checkpoint's run state (after the particles and the bodies; the settings of the
@@ -250,7 +255,7 @@ class Solver {
   // that the totals do not depend on the order in which the threads finish.
   static constexpr std::size_t kNoParticle = static_cast<std::size_t>(-1);
   struct alignas(64) ThreadAccount {
-    double sum[2] = {0.0, 0.0};
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
     double max = 0.0;
     std::size_t failed_particle = kNoParticle;  // the smallest index that failed
     const char* failure = "";
@@ -260,6 +265,7 @@ class Solver {
 
   std::vector<RigidBody> rigid_bodies_;
   std::vector<RigidBodyForce> rigid_body_forces_;
+  Vec2 boundary_reaction_ = Vec2::Zero();
 
   // Volumetric smoothing scratch: per particle its increments and cell, per cell the sums.
   struct SmoothedIncrement {

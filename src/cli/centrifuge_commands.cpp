@@ -1,0 +1,118 @@
+// `pilempm centrifuge ...`: the centrifuge pile test (docs/centrifuge.md). `run` reads a
+// centrifuge case file (or takes the built-in quick case), builds the MPM case, runs it and
+// writes the pile's forces, the fields, the summary and the plots; `case` prints the MPM case a
+// centrifuge case file becomes.
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <CLI/CLI.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "cli/commands.hpp"
+#include "pilempm/core/error.hpp"
+#include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/study/centrifuge_run.hpp"
+
+namespace pilempm::cli {
+
+namespace {
+
+struct CentrifugeFlags {
+  std::string case_file;
+  std::string out = "results/centrifuge";
+  std::string python;
+  bool quiet = false;
+  bool no_plots = false;
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path, 0, "", "", "cannot open the case file for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string shown(double value, const char* format) {
+  return std::isfinite(value) ? fmt::format(fmt::runtime(format), value) : std::string("-");
+}
+
+void run_centrifuge_command(const CentrifugeFlags& flags) {
+  const bool builtin = flags.case_file.empty();
+  const std::string source = builtin ? std::string("built-in quick case") : flags.case_file;
+  const std::string text =
+      builtin ? std::string(quick_centrifuge_case_text()) : read_text(flags.case_file);
+  const CentrifugeScenario scenario = read_centrifuge_case_text(text, source);
+  fmt::print("{}: \"{}\", phases {} -> {}/\n", source, scenario.title,
+             fmt::join(scenario_phase_names(scenario), ", "), flags.out);
+  std::fflush(stdout);
+  CentrifugeRunOptions options;
+  options.python = flags.python;
+  options.plots = !flags.no_plots;
+  const CentrifugeSummary r =
+      run_centrifuge(scenario, text, flags.out, flags.quiet ? nullptr : &std::cerr, options);
+  fmt::print("head force at the end of installation: {} N (tip at {} D)\n",
+             shown(r.installation_head_force, "{:.1f}"),
+             shown(r.installation_tip_depth_D, "{:.2f}"));
+  fmt::print("peak tip stress: {} MPa at {} D\n", shown(r.peak_tip_stress_MPa, "{:.2f}"),
+             shown(r.peak_tip_stress_depth_D, "{:.2f}"));
+  fmt::print("load-test capacity: {} N at {} mm\n", shown(r.capacity, "{:.1f}"),
+             shown(r.load_test_displacement_mm, "{:.3g}"));
+  fmt::print("checks: K0 stress error {} %, equilibrium error {} %, kinetic / work {} %\n",
+             shown(100.0 * r.initial_stress_error, "{:.2f}"),
+             shown(100.0 * r.equilibrium_error, "{:.2f}"),
+             shown(100.0 * r.max_kinetic_to_work, "{:.3f}"));
+  if (!r.plot_problem.empty())
+    fmt::print(stderr, "warning: the figures were not drawn: {}\n", r.plot_problem);
+  fmt::print("done: {} particles, {} steps in {:.1f} s; summary in {}/summary.md\n", r.particles,
+             r.steps, r.wall_seconds, flags.out);
+}
+
+}  // namespace
+
+void register_centrifuge_commands(CLI::App& app) {
+  CLI::App* centrifuge =
+      app.add_subcommand("centrifuge", "the centrifuge pile test (docs/centrifuge.md)");
+  centrifuge->require_subcommand(1);
+
+  auto flags = std::make_shared<CentrifugeFlags>();
+  CLI::App* run = centrifuge->add_subcommand(
+      "run",
+      "run a centrifuge case: K0 stress, pile wished in place, jacked installation, relaxation "
+      "and static load test; writes pile.csv, fields_*.csv/.vtu, summary.md/.json, PNG plots and "
+      "the MPM output (mpm/)");
+  run->add_option("case", flags->case_file,
+                  "the centrifuge case file (TOML); none: the built-in quick case "
+                  "(examples/centrifuge/quick.toml)")
+      ->type_name("CASE.toml");
+  run->add_option("--out", flags->out, "output folder")->capture_default_str()->type_name("DIR");
+  run->add_option("--python", flags->python,
+                  "Python interpreter with matplotlib for the plots (default: /usr/bin/python3, "
+                  "then python3 on PATH)")
+      ->type_name("PROGRAM");
+  run->add_flag("--no-plots", flags->no_plots, "write figures.json but do not draw the PNGs");
+  run->add_flag("--quiet", flags->quiet, "no progress lines on stderr");
+  run->callback([flags]() { run_centrifuge_command(*flags); });
+
+  auto case_file = std::make_shared<std::string>();
+  CLI::App* show = centrifuge->add_subcommand(
+      "case", "print the MPM case (docs/mpm-case-files.md) a centrifuge case file becomes");
+  show->add_option("case", *case_file, "the centrifuge case file; none: the built-in quick case")
+      ->type_name("CASE.toml");
+  show->callback([case_file]() {
+    const bool builtin = case_file->empty();
+    const std::string text =
+        builtin ? std::string(quick_centrifuge_case_text()) : read_text(*case_file);
+    const CentrifugeScenario s =
+        read_centrifuge_case_text(text, builtin ? "built-in quick case" : *case_file);
+    fmt::print("{}", centrifuge_mpm_case(s));
+  });
+}
+
+}  // namespace pilempm::cli

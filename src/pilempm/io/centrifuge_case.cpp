@@ -1,0 +1,192 @@
+#include "pilempm/io/centrifuge_case.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <fstream>
+#include <sstream>
+
+#include "pilempm/io/material_reader.hpp"
+#include "pilempm/io/toml_reader.hpp"
+
+namespace pilempm {
+
+namespace {
+
+PileMotion read_motion(TableReader& t, PileMotion motion) {
+  motion.velocity = t.number_or("velocity_m_per_s", motion.velocity, NumberRange::positive());
+  motion.ramp = t.number_or("ramp_s", motion.ramp, NumberRange::non_negative());
+  return motion;
+}
+
+// A [[material]] table as the lines of its keys.
+std::string table_lines(const toml::table& table) {
+  std::string out;
+  for (auto&& [key, value] : table) {
+    if (!out.empty()) out += '\n';
+    out += fmt::format("{} = {}", key.str(), toml_text(value));
+  }
+  return out;
+}
+
+}  // namespace
+
+CentrifugeScenario read_centrifuge_case_text(std::string_view text,
+                                             const std::string& source_name) {
+  const toml::table document = parse_toml_text(text, source_name);
+  TableReader root(document, source_name, "");
+  CentrifugeScenario s;
+  s.title = root.optional_string("title").value_or(s.title);
+
+  // Materials first: the sand may name one of them.
+  MaterialCatalog catalog;
+  catalog.read(root);
+  if (const toml::array* materials = document["material"].as_array())
+    for (const toml::node& m : *materials)
+      if (const toml::table* table = m.as_table()) s.material_tables.push_back(table_lines(*table));
+  if (const toml::table* integrator = document["integrator"].as_table())
+    s.integrator_table = table_lines(*integrator);
+
+  if (auto t = root.table("test")) {
+    s.pile_diameter =
+        t->number_or("pile_diameter_mm", s.pile_diameter * 1e3, NumberRange::positive()) * 1e-3;
+    s.g_level = t->number_or("g_level", s.g_level, NumberRange::closed(1.0, 1000.0));
+    s.gravity = t->number_or("gravity_m_per_s2", s.gravity, NumberRange::positive());
+    s.container_radius_D =
+        t->number_or("container_radius_D", s.container_radius_D, NumberRange::closed(2.0, 1000.0));
+    s.sand_height_D =
+        t->number_or("sand_height_D", s.sand_height_D, NumberRange::closed(2.0, 1000.0));
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("sand")) {
+    s.installation_material = t->optional_string("material").value_or(s.installation_material);
+    const MaterialSpec* material = catalog.find(s.installation_material);
+    if (material == nullptr || material->kind != ModelKind::hypoplastic)
+      throw t->error("material", fmt::format("not a hypoplastic material: must be a built-in set "
+                                             "or a [[material]] of the file ({})",
+                                             fmt::join(catalog.names(), ", ")));
+    s.material_phi_c_deg = material->hypoplastic.phi_c_deg;
+    if (auto name = t->optional_string("load_test_material")) {
+      const MaterialSpec* other = catalog.find(*name);
+      if (other == nullptr || other->kind != ModelKind::hypoplastic)
+        throw t->error("load_test_material",
+                       fmt::format("not a hypoplastic material: must be a built-in set or a "
+                                   "[[material]] of the file ({})",
+                                   fmt::join(catalog.names(), ", ")));
+      s.load_test_material = *name;
+    }
+    s.igs = t->optional_choice("igs", igs_choice_names()).value_or(s.igs);
+    s.e0 = t->number("e0", NumberRange::open(0.0, 5.0));
+    s.e0_at = t->choice("e0_at", {"initial-stress", "zero-pressure"});
+    s.density = t->optional_number("density_kg_per_m3", NumberRange::positive());
+    s.grain_density =
+        t->number_or("grain_density_kg_per_m3", s.grain_density, NumberRange::positive());
+    s.K0 = t->optional_number("K0", NumberRange::open(0.0, 5.0));
+    t->check_no_unknown_keys();
+  } else {
+    throw root.missing("sand",
+                       "[sand] with e0 and e0_at (\"initial-stress\" or \"zero-pressure\")");
+  }
+
+  if (auto t = root.table("pile")) {
+    s.tip = t->optional_choice("tip", {"conical", "flat"}).value_or(s.tip);
+    if (s.tip == "conical")
+      s.apex_angle_deg =
+          t->number_or("apex_angle_deg", s.apex_angle_deg, NumberRange::open(0, 180));
+    s.interface_friction_angle_deg =
+        t->optional_number("interface_friction_angle_deg", NumberRange::closed(0.0, 89.0));
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("initial_stress")) {
+    s.initial_stress_time =
+        t->number_or("duration_s", s.initial_stress_time, NumberRange::positive());
+    s.initial_stress_damping =
+        t->number_or("local_damping", s.initial_stress_damping, NumberRange{0.0, 1.0, false, true});
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("installation")) {
+    s.wished_in_place_D =
+        t->number_or("wished_in_place_D", s.wished_in_place_D, NumberRange::non_negative());
+    s.installation_D = t->number_or("depth_D", s.installation_D, NumberRange::non_negative());
+    s.jacking = read_motion(*t, s.jacking);
+    if (t->contains("snapshot_depths_D"))
+      s.snapshot_depths_D =
+          t->number_array("snapshot_depths_D", NumberRange::non_negative(), 0, 100, true);
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("relaxation")) {
+    s.relaxation = t->boolean_or("enabled", s.relaxation);
+    s.relaxation_motion = read_motion(*t, s.relaxation_motion);
+    s.relaxation_max_D = t->number_or("max_travel_D", s.relaxation_max_D, NumberRange::positive());
+    s.relaxation_force_averaging = t->number_or("force_averaging_s", s.relaxation_force_averaging,
+                                                NumberRange::non_negative());
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("load_test")) {
+    s.load_test_D = t->number_or("displacement_D", s.load_test_D, NumberRange::closed(0.0, 10.0));
+    s.load_test_motion = read_motion(*t, s.load_test_motion);
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("mesh")) {
+    s.cells_per_D = t->number_or("cells_per_D", s.cells_per_D, NumberRange::closed(1.0, 64.0));
+    s.fine_radius_D = t->number_or("fine_radius_D", s.fine_radius_D, NumberRange::at_least(1.0));
+    s.fine_depth_below_tip_D = t->number_or("fine_depth_below_tip_D", s.fine_depth_below_tip_D,
+                                            NumberRange::non_negative());
+    s.headroom_D = t->number_or("headroom_D", s.headroom_D, NumberRange::closed(0.5, 100.0));
+    s.growth_ratio = t->number_or("growth_ratio", s.growth_ratio, NumberRange::closed(1.0, 2.0));
+    s.particles_per_cell = t->integer_or("particles_per_cell", s.particles_per_cell, 1, 8);
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("solver")) {
+    s.mass_scaling = t->number_or("mass_scaling", s.mass_scaling, NumberRange::at_least(1.0));
+    s.courant_number =
+        t->number_or("courant_number", s.courant_number, NumberRange::left_open(0.0, 1.0));
+    s.flip_fraction = t->number_or("flip_fraction", s.flip_fraction, NumberRange::closed(0.0, 1.0));
+    s.threads = t->integer_or("threads", s.threads, 0, 1024);
+    s.volumetric_smoothing = t->boolean_or("volumetric_smoothing", s.volumetric_smoothing);
+    s.damping = t->number_or("local_damping", s.damping, NumberRange{0.0, 1.0, false, true});
+    t->check_no_unknown_keys();
+  }
+
+  if (auto t = root.table("output")) {
+    s.record_interval_D =
+        t->number_or("record_interval_D", s.record_interval_D, NumberRange::left_open(0.0, 1.0));
+    t->check_no_unknown_keys();
+  }
+  root.check_no_unknown_keys();
+
+  try {
+    validate(s);
+  } catch (const InvalidValue& e) {
+    // The key is "table.key": point at its line when the file has it.
+    const std::string& key = e.key();
+    const auto dot = key.find('.');
+    long line = 0;
+    if (dot != std::string::npos)
+      if (auto t = root.table(key.substr(0, dot))) line = t->line_of(key.substr(dot + 1));
+    throw InputError(source_name, line, key, e.value(), e.allowed());
+  }
+  return s;
+}
+
+CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name, 0, "", "", "cannot open the case file for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return read_centrifuge_case_text(text.str(), name);
+}
+
+MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario, const std::string& source_name) {
+  return read_mpm_case_text(centrifuge_mpm_case(scenario), source_name);
+}
+
+}  // namespace pilempm

@@ -1,0 +1,25 @@
+#pragma once
+// Centrifuge case files (docs/centrifuge.md): the centrifuge pile test of BRIEF.md §5 given by its
+// physics ([test], [sand], [pile], [installation], [relaxation], [load_test], [mesh], [solver],
+// [output], and [[material]] / [integrator] tables as in element case files). Reading is strict:
+// unknown keys and bad values are InputErrors with the file, the line, the key, the value and the
+// allowed range. Every key has the default of BRIEF §5.
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "pilempm/io/mpm_case.hpp"
+#include "pilempm/scenario/centrifuge_scenario.hpp"
+
+namespace pilempm {
+
+/// Reads a centrifuge case file (throws InputError).
+CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path);
+/// Reads centrifuge case text; `source_name` is what messages call the file.
+CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::string& source_name);
+
+/// The MPM case of a scenario (read from the text centrifuge_mpm_case writes; `source_name`
+/// names it in messages).
+MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario, const std::string& source_name);
+
+}  // namespace pilempm

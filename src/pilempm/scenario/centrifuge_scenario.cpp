@@ -1,0 +1,259 @@
+#include "pilempm/scenario/centrifuge_scenario.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/core/error.hpp"
+
+namespace pilempm {
+
+namespace {
+
+bool is_builtin_set(const std::string& name) {
+  const std::vector<std::string> names = hypoplastic_set_names();
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+void require(bool ok, const std::string& key, double value, const std::string& allowed) {
+  if (!ok) throw InvalidValue(key, format_value(value), allowed);
+}
+
+// The tip depths (below the surface) [D] where the installation is split, in order, the end of
+// the installation last.
+std::vector<double> installation_stops_D(const CentrifugeScenario& s) {
+  std::vector<double> stops;
+  const double end = s.wished_in_place_D + s.installation_D;
+  std::vector<double> snapshots = s.snapshot_depths_D;
+  std::sort(snapshots.begin(), snapshots.end());
+  for (double depth : snapshots)
+    if (depth > s.wished_in_place_D + 1e-9 && depth < end - 1e-9) stops.push_back(depth);
+  stops.push_back(end);
+  return stops;
+}
+
+std::string depth_label(double depth_D) {
+  return fmt::format("{:g}D", depth_D);
+}
+
+// The travel time of a phase with a generous margin, as its duration (its stop rule ends it).
+double phase_duration(double travel, const PileMotion& motion) {
+  return 2.0 * travel / motion.velocity + 2.0 * motion.ramp + 1e-3;
+}
+
+}  // namespace
+
+double scenario_friction_angle_deg(const CentrifugeScenario& s) {
+  if (is_builtin_set(s.installation_material))
+    return hypoplastic_set(s.installation_material).phi_c_deg;
+  return s.material_phi_c_deg;
+}
+
+double scenario_K0(const CentrifugeScenario& s) {
+  if (s.K0) return *s.K0;
+  return 1.0 - std::sin(scenario_friction_angle_deg(s) * std::numbers::pi / 180.0);
+}
+
+double scenario_interface_friction_deg(const CentrifugeScenario& s) {
+  if (s.interface_friction_angle_deg) return *s.interface_friction_angle_deg;
+  return 2.0 / 3.0 * scenario_friction_angle_deg(s);
+}
+
+void validate(const CentrifugeScenario& s) {
+  require(s.pile_diameter > 0.0, "test.pile_diameter_mm", s.pile_diameter * 1e3, "> 0");
+  require(s.g_level > 0.0, "test.g_level", s.g_level, "> 0");
+  require(s.sand_height_D > 0.0, "test.sand_height_D", s.sand_height_D, "> 0");
+  require(s.container_radius_D >= s.fine_radius_D + 1.0, "test.container_radius_D",
+          s.container_radius_D,
+          fmt::format(">= mesh.fine_radius_D + 1 = {:g}", s.fine_radius_D + 1.0));
+  require(s.fine_radius_D >= 1.0, "mesh.fine_radius_D", s.fine_radius_D,
+          ">= 1 (the pile and a ring around it)");
+  require(s.e0 > 0.0, "sand.e0", s.e0, "> 0");
+  require(s.wished_in_place_D >= 0.0, "installation.wished_in_place_D", s.wished_in_place_D,
+          ">= 0");
+  require(s.installation_D >= 0.0, "installation.depth_D", s.installation_D, ">= 0");
+  const double deepest = s.wished_in_place_D + s.installation_D;
+  const double room_below = s.fine_depth_below_tip_D + 1.0;
+  require(deepest + room_below <= s.sand_height_D, "installation.depth_D", s.installation_D,
+          fmt::format("<= test.sand_height_D - installation.wished_in_place_D - "
+                      "mesh.fine_depth_below_tip_D - 1 = {:g} (the tip must stay in the fine "
+                      "zone, above the container bottom)",
+                      s.sand_height_D - s.wished_in_place_D - room_below));
+  require(s.installation_D > 0.0 || s.load_test_D > 0.0, "load_test.displacement_D", s.load_test_D,
+          "> 0 when there is no installation (the run must move the pile)");
+  for (double depth : s.snapshot_depths_D)
+    require(depth >= 0.0 && depth <= deepest, "installation.snapshot_depths_D", depth,
+            fmt::format("in [0, {:g}] (tip depths below the surface [D] up to the end of "
+                        "installation)",
+                        deepest));
+  require(s.cells_per_D >= 1.0, "mesh.cells_per_D", s.cells_per_D, ">= 1");
+  require(s.jacking.velocity > 0.0, "installation.velocity_m_per_s", s.jacking.velocity, "> 0");
+  require(s.relaxation_motion.velocity > 0.0, "relaxation.velocity_m_per_s",
+          s.relaxation_motion.velocity, "> 0");
+  require(s.load_test_motion.velocity > 0.0, "load_test.velocity_m_per_s",
+          s.load_test_motion.velocity, "> 0");
+  require(s.record_interval_D > 0.0, "output.record_interval_D", s.record_interval_D, "> 0");
+  if (!is_builtin_set(s.installation_material))
+    require(s.material_phi_c_deg > 0.0, "sand.material", s.material_phi_c_deg,
+            "a built-in set or a [[material]] table of the file");
+}
+
+std::vector<std::string> scenario_phase_names(const CentrifugeScenario& s) {
+  std::vector<std::string> names{"initial-stress"};
+  if (s.installation_D > 0.0) {
+    const std::vector<double> stops = installation_stops_D(s);
+    for (std::size_t k = 0; k + 1 < stops.size(); ++k)
+      names.push_back("installation-to-" + depth_label(stops[k]));
+    names.emplace_back("installation");
+    if (s.relaxation) names.emplace_back("relaxation");
+  }
+  if (s.load_test_D > 0.0) names.emplace_back("load-test");
+  return names;
+}
+
+std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
+  validate(s);
+  const double D = s.pile_diameter;
+  const double h = D / s.cells_per_D;
+  const double H = s.sand_height();
+  const double R = s.container_radius();
+  const double deepest = s.wished_in_place_D + s.installation_D;
+
+  // The fine band in y: from below the deepest tip to the top of the grid, with the sand
+  // surface on a grid line; at least two cells of graded grid stay below it.
+  const int cells_above = static_cast<int>(std::ceil(s.headroom_D * s.cells_per_D - 1e-9));
+  int cells_below =
+      static_cast<int>(std::ceil((deepest + s.fine_depth_below_tip_D) * s.cells_per_D - 1e-9));
+  cells_below = std::min(cells_below, static_cast<int>(std::floor(H / h + 1e-9)) - 2);
+  const double band_bottom = H - cells_below * h;
+  const double top = H + cells_above * h;
+  const double fine_radius = std::round(s.fine_radius_D * s.cells_per_D) * h;
+
+  std::string t;
+  auto line = [&t](const std::string& text) {
+    t += text;
+    t += '\n';
+  };
+  line("# Written by pilempm from a centrifuge scenario (docs/centrifuge.md).");
+  line(fmt::format("title = \"{}\"", s.title));
+  line("");
+  line("[geometry]");
+  line("kind = \"axisymmetric\"");
+  line("");
+  line("[grid.x]");
+  line("spacing = \"graded\"");
+  line(fmt::format("min_m = 0.0\nmax_m = {:.9g}", R));
+  line(fmt::format("band_min_m = 0.0\nband_max_m = {:.9g}", fine_radius));
+  line(fmt::format("fine_spacing_m = {:.9g}\ngrowth_ratio = {:.9g}", h, s.growth_ratio));
+  line("");
+  line("[grid.y]");
+  line("spacing = \"graded\"");
+  line(fmt::format("min_m = 0.0\nmax_m = {:.9g}", top));
+  line(fmt::format("band_min_m = {:.9g}\nband_max_m = {:.9g}", band_bottom, top));
+  line(fmt::format("fine_spacing_m = {:.9g}\ngrowth_ratio = {:.9g}", h, s.growth_ratio));
+  line("");
+  line("[boundaries]");
+  line("right = \"roller\"   # the container wall, smooth");
+  line("bottom = \"fixed\"   # the container floor");
+  line("");
+  line("[solver]");
+  line(fmt::format("gravity_m_per_s2 = {:.9g}", s.gravity));
+  line(fmt::format("gravity_multiplier = {:.9g}", s.g_level));
+  line(fmt::format("mass_scaling = {:.9g}", s.mass_scaling));
+  line(fmt::format("courant_number = {:.9g}", s.courant_number));
+  line(fmt::format("flip_fraction = {:.9g}", s.flip_fraction));
+  line(fmt::format("threads = {}", s.threads));
+  line(fmt::format("volumetric_smoothing = {}", s.volumetric_smoothing ? "true" : "false"));
+  line(fmt::format("local_damping = {:.9g}", s.damping));
+  if (!s.integrator_table.empty()) {
+    line("");
+    line("[integrator]");
+    line(s.integrator_table);
+  }
+  for (const std::string& table : s.material_tables) {
+    line("");
+    line("[[material]]");
+    line(table);
+  }
+  line("");
+  line("[[region]]");
+  line("name = \"sand\"");
+  line(fmt::format("x_min_m = 0.0\nx_max_m = {:.9g}\ny_min_m = 0.0\ny_max_m = {:.9g}", R, H));
+  line(fmt::format("particles_per_cell = {}", s.particles_per_cell));
+  line(fmt::format("density_kg_per_m3 = {:.9g}", s.sand_density()));
+  line(fmt::format("material = \"{}\"", s.installation_material));
+  line(fmt::format("igs = \"{}\"", s.igs));
+  line("initial_stress = \"geostatic\"");
+  line(fmt::format("K0 = {:.9g}", scenario_K0(s)));
+  line(fmt::format("e0 = {:.9g}", s.e0));
+  line(fmt::format("e0_at = \"{}\"", s.e0_at));
+  line("");
+  line("[[body]]");
+  line("name = \"pile\"");
+  line("kind = \"pile\"");
+  line(fmt::format("radius_m = {:.9g}", s.pile_radius()));
+  line(fmt::format("tip_y_m = {:.9g}", s.initial_tip_y()));
+  line(fmt::format("tip = \"{}\"", s.tip));
+  if (s.tip == "conical") line(fmt::format("apex_angle_deg = {:.9g}", s.apex_angle_deg));
+  line(fmt::format("interface_friction_angle_deg = {:.9g}", scenario_interface_friction_deg(s)));
+
+  // The phases.
+  auto phase_header = [&](const std::string& name, double duration, double record_time) {
+    line("");
+    line("[[phase]]");
+    line(fmt::format("name = \"{}\"", name));
+    line(fmt::format("duration_s = {:.9g}", duration));
+    line(fmt::format("energy_interval_s = {:.9g}", std::min(record_time, duration)));
+  };
+  auto motion = [&](double direction, const PileMotion& m) {
+    line("[phase.body.pile]");
+    line(fmt::format("velocity_y_m_per_s = {:.9g}", direction * m.velocity));
+    line(fmt::format("ramp_s = {:.9g}", m.ramp));
+  };
+
+  phase_header("initial-stress", s.initial_stress_time, s.initial_stress_time / 20.0);
+  line("kind = \"geostatic\"");
+  line(fmt::format("local_damping = {:.9g}", s.initial_stress_damping));
+
+  const double record = s.record_interval_D * D;
+  if (s.installation_D > 0.0) {
+    const std::vector<double> stops = installation_stops_D(s);
+    double from = s.wished_in_place_D;
+    for (std::size_t k = 0; k < stops.size(); ++k) {
+      const bool last = k + 1 == stops.size();
+      const std::string name = last ? "installation" : "installation-to-" + depth_label(stops[k]);
+      phase_header(name, phase_duration((stops[k] - from) * D, s.jacking),
+                   record / s.jacking.velocity);
+      line(fmt::format("stop_displacement_y_m = {:.9g}", -(stops[k] - s.wished_in_place_D) * D));
+      if (!last) line("checkpoint = false");
+      motion(-1.0, s.jacking);
+      from = stops[k];
+    }
+    if (s.relaxation) {
+      const double travel = s.relaxation_max_D * D;
+      phase_header("relaxation", phase_duration(travel, s.relaxation_motion),
+                   0.1 * record / s.relaxation_motion.velocity);
+      line("stop_force_y_below_N = 0.0");
+      line(fmt::format("stop_force_averaging_s = {:.9g}", s.relaxation_force_averaging));
+      line(fmt::format("stop_phase_displacement_y_m = {:.9g}", travel));
+      motion(1.0, s.relaxation_motion);
+    }
+  }
+  if (s.load_test_D > 0.0) {
+    const double travel = s.load_test_D * D;
+    phase_header("load-test", phase_duration(travel, s.load_test_motion),
+                 0.1 * record / s.load_test_motion.velocity);
+    line(fmt::format("stop_phase_displacement_y_m = {:.9g}", -travel));
+    motion(-1.0, s.load_test_motion);
+    if (!s.load_test_material.empty() && s.load_test_material != s.installation_material) {
+      line("[phase.materials]");
+      line(fmt::format("\"{}\" = \"{}\"", s.installation_material, s.load_test_material));
+    }
+  }
+  return t;
+}
+
+}  // namespace pilempm

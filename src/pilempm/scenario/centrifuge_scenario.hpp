@@ -1,0 +1,112 @@
+#pragma once
+// The centrifuge pile test (BRIEF.md §5) described by its physics: the pile, the g-level, the
+// container, the sand and its parameter sets, the installation, relaxation and load-test rules,
+// and a mesh fineness. From it the scenario writes a complete MPM case (docs/mpm-case-files.md):
+// the graded axisymmetric grid, the sand region with its K0 stress, the pile wished in place and
+// the phases. The defaults are those of BRIEF §5; docs/centrifuge.md marks the assumed ones.
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace pilempm {
+
+/// How the pile moves in one phase of the scenario.
+struct PileMotion {
+  double velocity = 0.0;  ///< speed of the pile [m/s], > 0 (the direction is the phase's)
+  double ramp = 0.0;      ///< time to reach it from the previous phase's velocity [s]
+};
+
+struct CentrifugeScenario {
+  std::string title = "centrifuge pile test";
+
+  // The test (model scale).
+  double pile_diameter = 0.0113;  ///< D [m]
+  double g_level = 40.0;          ///< N: body force N g [-]
+  double gravity = 9.81;          ///< g [m/s^2]
+  double container_radius_D = 26.0;
+  double sand_height_D = 35.0;
+
+  // The sand. A material is a built-in set name or the name of a [[material]] table whose TOML
+  // text is in `material_tables` (the scenario copies it into the case).
+  double e0 = 0.68;
+  std::string e0_at = "initial-stress";  ///< "initial-stress" or "zero-pressure"
+  std::optional<double> density;         ///< [kg/m^3]; default ρ_d = G_s ρ_w / (1 + e0)
+  double grain_density = 2650.0;         ///< G_s ρ_w [kg/m^3] (G_s = 2.65 assumed)
+  std::optional<double> K0;              ///< default 1 − sin φ_c of the installation set
+  std::string igs = "IGS3";
+  std::string installation_material = "original";  ///< the set of the K0 and installation phases
+  std::string load_test_material;                  ///< "" = the installation set
+  std::vector<std::string> material_tables;        ///< [[material]] tables as TOML text
+  std::string integrator_table;                    ///< an [integrator] table as TOML text, or ""
+  /// φ_c of the installation set when it is a [[material]] table [deg] (the reader sets it;
+  /// built-in sets are looked up).
+  double material_phi_c_deg = 0.0;
+
+  // The pile.
+  std::string tip = "conical";  ///< "conical" or "flat"
+  double apex_angle_deg = 60.0;
+  std::optional<double> interface_friction_angle_deg;  ///< default 2/3 φ_c
+
+  // The phases.
+  double wished_in_place_D = 10.0;  ///< tip depth below the surface when the pile is put in
+  double installation_D = 10.0;     ///< jacked further; 0: no installation (MPM-1)
+  PileMotion jacking{0.1, 0.002};
+  bool relaxation = true;
+  PileMotion relaxation_motion{0.01, 0.002};
+  double relaxation_max_D = 0.05;  ///< pulling stops at the latest after this much travel
+  /// Pulling stops when the head force's moving average with this time constant falls below
+  /// zero [s] (the force of one step is noisy).
+  double relaxation_force_averaging = 0.002;
+  double load_test_D = 0.1;  ///< 0: no load test
+  PileMotion load_test_motion{0.02, 0.002};
+  double initial_stress_time = 0.05;    ///< length of the K0 phase [s]
+  double initial_stress_damping = 0.7;  ///< local damping while the K0 stress settles [-]
+  double damping = 0.0;                 ///< local damping of the other phases [-]
+  /// Penetrations (tip depth below the surface, in D) at which the fields are written; the
+  /// ends of installation and load test are always written.
+  std::vector<double> snapshot_depths_D;
+  double record_interval_D = 0.05;  ///< pile travel between rows of the force records
+
+  // The mesh and solver.
+  double cells_per_D = 4.0;             ///< cell size D / cells_per_D in the fine zone
+  double fine_radius_D = 3.0;           ///< the fine zone reaches this far from the axis
+  double fine_depth_below_tip_D = 4.0;  ///< and this far below the deepest tip
+  double headroom_D = 3.0;              ///< grid above the sand surface (room for heave)
+  double growth_ratio = 1.15;           ///< of the cells outside the fine zone
+  int particles_per_cell = 2;           ///< per direction
+  double mass_scaling = 100.0;
+  double courant_number = 0.5;
+  int threads = 0;
+  bool volumetric_smoothing = true;
+  double flip_fraction = 0.99;
+
+  // Derived quantities.
+  double container_radius() const { return container_radius_D * pile_diameter; }
+  double sand_height() const { return sand_height_D * pile_diameter; }
+  double pile_radius() const { return 0.5 * pile_diameter; }
+  /// The tip's height when the pile is wished in place [m].
+  double initial_tip_y() const { return sand_height() - wished_in_place_D * pile_diameter; }
+  /// ρ of the sand [kg/m^3].
+  double sand_density() const { return density ? *density : grain_density / (1.0 + e0); }
+};
+
+/// φ_c of the installation set [deg]: the built-in set's, else material_phi_c_deg. Used for
+/// the defaults of K0 and δ.
+double scenario_friction_angle_deg(const CentrifugeScenario& scenario);
+/// K0 used: the given one or 1 − sin φ_c.
+double scenario_K0(const CentrifugeScenario& scenario);
+/// δ used [deg]: the given one or 2/3 φ_c.
+double scenario_interface_friction_deg(const CentrifugeScenario& scenario);
+
+/// Checks that the pieces fit together (the pile inside the sand, the fine zone inside the
+/// container, ...). Throws InvalidValue naming the key of the scenario file.
+void validate(const CentrifugeScenario& scenario);
+
+/// The names of the phases the case will have, in order: "initial-stress", "installation"
+/// (split at the snapshot depths as "installation-to-4.7D", ...), "relaxation", "load-test".
+std::vector<std::string> scenario_phase_names(const CentrifugeScenario& scenario);
+
+/// The MPM case file text of the scenario (docs/mpm-case-files.md).
+std::string centrifuge_mpm_case(const CentrifugeScenario& scenario);
+
+}  // namespace pilempm

@@ -1,0 +1,473 @@
+#include "pilempm/study/centrifuge_run.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <iostream>
+#include <limits>
+#include <numbers>
+
+#include "pilempm/constitutive/material_state.hpp"
+#include "pilempm/core/error.hpp"
+#include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/io/element_output.hpp"
+#include "pilempm/io/mpm_output.hpp"
+#include "pilempm/io/mpm_phase_control.hpp"
+#include "pilempm/io/text_escaping.hpp"
+#include "pilempm/io/vtu_writer.hpp"
+#include "pilempm/study/figures.hpp"
+#include "pilempm/study/plotting.hpp"
+#include "pilempm/study/quick_centrifuge_case.hpp"
+
+namespace pilempm {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool starts_with(const std::string& text, const std::string& prefix) {
+  return text.rfind(prefix, 0) == 0;
+}
+
+bool is_installation(const std::string& phase) {
+  return starts_with(phase, "installation");
+}
+
+// One row of pile.csv, as numbers.
+struct PileRow {
+  double time = 0.0;
+  std::string phase;
+  double displacement = 0.0;                      // pile, down positive [m]
+  double phase_displacement = 0.0;                // since the phase start, down positive [m]
+  double tip_depth = 0.0;                         // below the sand surface [m]
+  double head = 0.0, tip = 0.0, shaft = 0.0;      // [N]
+  double base_reaction = 0.0, soil_weight = 0.0;  // [N]
+  double kinetic = 0.0, pile_work = 0.0;          // [J]
+};
+
+// Records pile.csv during the run: one row per record interval of pile travel, and at every
+// phase end, each with the forces averaged over the time since the previous row.
+class PileRecorder {
+ public:
+  PileRecorder(const CentrifugeScenario& s, double factor)
+      : s_(s), factor_(factor), interval_(s.record_interval_D * s.pile_diameter) {}
+
+  void after_step(const mpm::Solver& solver, const MpmPhase& phase, double dt) {
+    means_.add_step(solver, dt);
+    reaction_impulse_ += dt * solver.boundary_reaction();
+    elapsed_ += dt;
+    // Installation: a row per record interval; the short relaxation and load test: ten.
+    const double interval = is_installation(phase.name) ? interval_ : 0.1 * interval_;
+    if (phase.name != "initial-stress" &&
+        std::abs(pile_y(solver) - last_row_y_) >= interval * (1.0 - 1e-9))
+      add_row(solver, phase.name);
+  }
+
+  void phase_end(const mpm::Solver& solver, const MpmPhase& phase) {
+    if (elapsed_ > 0.0) add_row(solver, phase.name);
+    phase_start_y_ = pile_y(solver);
+  }
+
+  const std::vector<PileRow>& rows() const { return rows_; }
+
+ private:
+  static double pile_y(const mpm::Solver& solver) {
+    return solver.rigid_body(0).displacement().y();
+  }
+
+  void add_row(const mpm::Solver& solver, const std::string& phase) {
+    const std::vector<mpm::RigidBodyForce> forces = means_.take(solver);
+    const mpm::RigidBodyForce& f = forces.at(0);
+    PileRow row;
+    row.time = solver.time();
+    row.phase = phase;
+    const double y = pile_y(solver);
+    row.displacement = -y;
+    row.phase_displacement = -(y - phase_start_y_);
+    row.tip_depth = s_.wished_in_place_D * s_.pile_diameter - y;
+    row.head = factor_ * f.total.y();
+    row.tip = f.parts.size() > 0 ? factor_ * f.parts[0].y() : 0.0;
+    row.shaft = f.parts.size() > 1 ? factor_ * f.parts[1].y() : 0.0;
+    row.base_reaction = elapsed_ > 0.0 ? factor_ * reaction_impulse_.y() / elapsed_ : 0.0;
+    double mass = 0.0;
+    for (double m : solver.particles().mass) mass += m;
+    row.soil_weight = factor_ * mass * s_.gravity * s_.g_level;
+    row.kinetic = factor_ * solver.energies().kinetic;
+    row.pile_work = factor_ * solver.energies().contact_work;
+    rows_.push_back(row);
+    reaction_impulse_ = mpm::Vec2::Zero();
+    elapsed_ = 0.0;
+    last_row_y_ = y;
+  }
+
+  const CentrifugeScenario& s_;
+  double factor_;
+  double interval_;
+  MpmBodyForceMeans means_;
+  mpm::Vec2 reaction_impulse_ = mpm::Vec2::Zero();
+  double elapsed_ = 0.0;
+  double last_row_y_ = 0.0;
+  double phase_start_y_ = 0.0;
+  std::vector<PileRow> rows_;
+};
+
+std::string pile_csv(const std::vector<PileRow>& rows, double D) {
+  const double tip_area = std::numbers::pi * 0.25 * D * D;
+  std::string text =
+      "# the pile: displacement and phase_displacement down positive since it was wished in "
+      "place and since the phase start; forces of the soil on the full pile, up positive (a pile "
+      "pushed into the sand carries head_force_N > 0), averaged over the time since the previous "
+      "row; tip_stress_MPa = tip force / (pi D^2 / 4), the mean normal stress on the projected "
+      "tip area; base_reaction_N: the container's vertical reaction on the sand, soil_weight_N: "
+      "the sand's weight at N g, equilibrium_residual_N = head - (base - weight); kinetic_J (with "
+      "the scaled mass) and pile_work_J (the work of the pile on the sand since t = 0) of the "
+      "full model\n";
+  for (const std::string& column : centrifuge_pile_columns()) {
+    text += column;
+    text += column == centrifuge_pile_columns().back() ? '\n' : ',';
+  }
+  for (const PileRow& r : rows)
+    text += fmt::format(
+        "{:.8g},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:."
+        "6g},{:.6g},{:.6g}\n",
+        r.time, csv_field(r.phase), 1e3 * r.displacement, 1e3 * r.phase_displacement,
+        1e3 * r.tip_depth, r.tip_depth / D, r.head, r.tip, r.shaft, r.tip / tip_area / 1e6,
+        r.base_reaction, r.soil_weight, r.head - (r.base_reaction - r.soil_weight), r.kinetic,
+        r.pile_work, r.phase_displacement / D);
+  return text;
+}
+
+// The sand's state as CSV (coordinates from the axis and below the surface).
+std::string fields_csv(const mpm::Solver& solver, double surface) {
+  const std::vector<double> igs_size = mpm_igs_sizes(solver);
+  const mpm::Particles& particles = solver.particles();
+  std::string text =
+      "# the sand's particles: r_mm from the axis, depth_mm below the initial sand surface, "
+      "p and q in kPa (compression positive), igs_rho = ||delta|| / R of the intergranular "
+      "strain\nr_mm,depth_mm,void_ratio,p_kPa,q_kPa,igs_rho\n";
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const MaterialState& state = particles.state[p];
+    const double R = igs_size[static_cast<std::size_t>(particles.material[p])];
+    const double rho = R > 0.0 ? std::min(1.0, state.intergranular_strain.norm() / R) : 0.0;
+    text +=
+        fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g}\n", 1e3 * particles.position[p].x(),
+                    1e3 * (surface - particles.position[p].y()), state.void_ratio,
+                    mean_stress(state.stress) / 1e3, deviator_stress(state.stress) / 1e3, rho);
+  }
+  return text;
+}
+
+// The K0 check: σ_v against ρ N g z after the initial-stress phase, beyond 2 D from the pile.
+void initial_stress_check(const CentrifugeScenario& s, const mpm::Solver& solver,
+                          CentrifugeSummary& summary) {
+  const double unit = s.sand_density() * s.g_level * s.gravity;  // [Pa/m]
+  const double H = s.sand_height();
+  double worst = 0.0, ratio_sum = 0.0;
+  long count = 0;
+  const mpm::Particles& particles = solver.particles();
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    if (particles.position[p].x() < 2.0 * s.pile_diameter) continue;
+    const double z = H - particles.position[p].y();
+    const double sigma_v = -particles.state[p].stress[k22];
+    worst = std::max(worst, std::abs(sigma_v - unit * z) / (unit * H));
+    if (z > s.pile_diameter) {
+      ratio_sum += sigma_v / (unit * z);
+      ++count;
+    }
+  }
+  summary.initial_stress_error = worst;
+  summary.initial_stress_ratio = count > 0 ? ratio_sum / static_cast<double>(count) : kNaN;
+}
+
+std::string number_json(double value) {
+  return std::isfinite(value) ? fmt::format("{:.6g}", value) : "null";
+}
+
+std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummary& r) {
+  auto value = [](double v, const char* format) {
+    return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string("-");
+  };
+  std::string md = fmt::format("# {}\n\n", r.title);
+  md += fmt::format(
+      "D = {:g} mm at {:g} g, container R = {:g} D, sand H = {:g} D, e0 = {:g} ({}), set \"{}\" "
+      "with {}, pile wished in place at {:g} D, installed {:g} D.\n\n",
+      1e3 * s.pile_diameter, s.g_level, s.container_radius_D, s.sand_height_D, s.e0, s.e0_at,
+      s.installation_material, s.igs, s.wished_in_place_D, s.installation_D);
+  md += "| quantity | value |\n|---|---|\n";
+  md += fmt::format(
+      "| head force at the end of installation (mean over the last cell of travel) "
+      "| {} N at {} D |\n",
+      value(r.installation_head_force, "{:.1f}"), value(r.installation_tip_depth_D, "{:.2f}"));
+  md += fmt::format("| peak tip stress during installation | {} MPa at {} D |\n",
+                    value(r.peak_tip_stress_MPa, "{:.2f}"),
+                    value(r.peak_tip_stress_depth_D, "{:.2f}"));
+  md += fmt::format("| pile pulled up in relaxation (to zero head force) | {} mm |\n",
+                    value(r.relaxation_travel_mm, "{:.3f}"));
+  md += fmt::format("| load-test capacity at {} mm | {} N |\n",
+                    value(r.load_test_displacement_mm, "{:.3g}"), value(r.capacity, "{:.1f}"));
+  md += fmt::format("| K0 stress: max abs(σv − ρNgz) / ρNgH; mean σv / ρNgz | {} %; {} |\n",
+                    value(100.0 * r.initial_stress_error, "{:.2f}"),
+                    value(r.initial_stress_ratio, "{:.4f}"));
+  md +=
+      fmt::format("| equilibrium: max abs(F_head − (R_base − W)) / F_head, installation | {} % |\n",
+                  value(100.0 * r.equilibrium_error, "{:.2f}"));
+  md += fmt::format("| max kinetic energy / pile work, installation | {} % |\n",
+                    value(100.0 * r.max_kinetic_to_work, "{:.3f}"));
+  md += fmt::format("| particles; steps; wall time | {}; {}; {:.1f} s |\n", r.particles, r.steps,
+                    r.wall_seconds);
+  md +=
+      "\nFiles: `pile.csv` (forces against displacement and depth), `fields_<phase>.csv` and "
+      "`.vtu` (void ratio, p, q, IGS ρ), `mpm/` (the MPM case's own output and checkpoints), "
+      "`case.toml`, `mpm_case.toml`";
+  if (!r.figures.empty()) md += ", " + fmt::format("`{}`", fmt::join(r.figures, "`, `"));
+  md += ".\n";
+  if (!r.plot_problem.empty())
+    md += fmt::format(
+        "\nThe figures were not drawn: {}. Draw them later with `/usr/bin/python3 "
+        "plot_figures.py figures.json` in this folder.\n",
+        r.plot_problem);
+  return md;
+}
+
+std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
+  std::vector<FigureSpec> figures;
+  SeriesStyle thin;
+  thin.linewidth = 1.2;
+  if (s.installation_D > 0.0) {
+    FigureSpec f;
+    f.file = "installation.png";
+    f.title = s.title;
+    f.rows = 1;
+    f.cols = 2;
+    f.width_in = 11.0;
+    f.height_in = 4.5;
+    PanelSpec force;
+    force.title = "head force during installation";
+    force.x.label = "pile displacement [mm]";
+    force.y.label = "force [N]";
+    for (auto [column, label] :
+         {std::pair{"head_force_N", "head"}, {"tip_force_N", "tip"}, {"shaft_force_N", "shaft"}}) {
+      SeriesSpec series{"pile.csv", {}, "pile_displacement_mm", column, label, thin};
+      for (const std::string& phase : scenario_phase_names(s))
+        if (is_installation(phase)) {
+          series.where = {{"phase", phase}};
+          series.label = phase == "installation" || scenario_phase_names(s).size() <= 2
+                             ? label
+                             : std::string();
+          force.series.push_back(series);
+        }
+    }
+    // One colour per force: the split installation phases share it.
+    const std::vector<std::string> colours{"C0", "C1", "C2"};
+    for (std::size_t k = 0; k < force.series.size(); ++k)
+      force.series[k].style.color = colours[std::min<std::size_t>(2, k * 3 / force.series.size())];
+    f.panels.push_back(force);
+    PanelSpec tip;
+    tip.title = "tip stress against tip depth";
+    tip.x.label = "mean normal stress on the tip [MPa]";
+    tip.y.label = "tip depth [D]";
+    for (const std::string& phase : scenario_phase_names(s))
+      if (is_installation(phase))
+        tip.series.push_back(SeriesSpec{"pile.csv",
+                                        {{"phase", phase}},
+                                        "tip_stress_MPa",
+                                        "tip_depth_D",
+                                        "",
+                                        SeriesStyle{"C3", "-", "", 1.2, 0}});
+    tip.legend = "none";
+    f.panels.push_back(tip);
+    figures.push_back(f);
+  }
+  if (s.load_test_D > 0.0) {
+    FigureSpec f;
+    f.file = "load_test.png";
+    f.title = s.title + ": static load test";
+    PanelSpec panel;
+    panel.x.label = "pile displacement in the load test [mm]";
+    panel.y.label = "force [N]";
+    for (auto [column, label, colour] : {std::tuple{"head_force_N", "head", "C0"},
+                                         {"tip_force_N", "tip", "C1"},
+                                         {"shaft_force_N", "shaft", "C2"}})
+      panel.series.push_back(SeriesSpec{"pile.csv",
+                                        {{"phase", "load-test"}},
+                                        "phase_displacement_mm",
+                                        column,
+                                        label,
+                                        SeriesStyle{colour, "-", "", 1.4, 0}});
+    f.panels.push_back(panel);
+    figures.push_back(f);
+  }
+  return figures;
+}
+
+}  // namespace
+
+std::string_view quick_centrifuge_case_text() {
+  return {reinterpret_cast<const char*>(generated::kQuickCentrifugeCase),
+          sizeof generated::kQuickCentrifugeCase};
+}
+
+const std::vector<std::string>& centrifuge_pile_columns() {
+  static const std::vector<std::string> columns{"time_s",
+                                                "phase",
+                                                "pile_displacement_mm",
+                                                "phase_displacement_mm",
+                                                "tip_depth_mm",
+                                                "tip_depth_D",
+                                                "head_force_N",
+                                                "tip_force_N",
+                                                "shaft_force_N",
+                                                "tip_stress_MPa",
+                                                "base_reaction_N",
+                                                "soil_weight_N",
+                                                "equilibrium_residual_N",
+                                                "kinetic_J",
+                                                "pile_work_J",
+                                                "phase_displacement_D"};
+  return columns;
+}
+
+std::string centrifuge_summary_json(const CentrifugeSummary& r) {
+  std::string json = "{\n";
+  auto add = [&json](const std::string& key, const std::string& value) {
+    json += fmt::format("  {}: {},\n", json_quote(key), value);
+  };
+  add("title", json_quote(r.title));
+  add("particles", std::to_string(r.particles));
+  add("steps", std::to_string(r.steps));
+  add("wall_time_s", number_json(r.wall_seconds));
+  add("initial_stress_error", number_json(r.initial_stress_error));
+  add("initial_stress_ratio", number_json(r.initial_stress_ratio));
+  add("installation_head_force_N", number_json(r.installation_head_force));
+  add("installation_tip_depth_D", number_json(r.installation_tip_depth_D));
+  add("peak_tip_stress_MPa", number_json(r.peak_tip_stress_MPa));
+  add("peak_tip_stress_depth_D", number_json(r.peak_tip_stress_depth_D));
+  add("relaxation_travel_mm", number_json(r.relaxation_travel_mm));
+  add("load_test_capacity_N", number_json(r.capacity));
+  add("load_test_displacement_mm", number_json(r.load_test_displacement_mm));
+  add("equilibrium_error", number_json(r.equilibrium_error));
+  json += fmt::format("  \"max_kinetic_to_work\": {}\n}}\n", number_json(r.max_kinetic_to_work));
+  return json;
+}
+
+CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string& case_text,
+                                 const std::filesystem::path& out_dir, std::ostream* progress,
+                                 const CentrifugeRunOptions& options) {
+  const std::string mpm_text = centrifuge_mpm_case(s);
+  const MpmCase mpm_case = read_mpm_case_text(mpm_text, (out_dir / "mpm_case.toml").string());
+  prepare_output_directory(out_dir);
+  if (!case_text.empty()) write_file_atomically(out_dir / "case.toml", case_text);
+  write_file_atomically(out_dir / "mpm_case.toml", mpm_text);
+
+  CentrifugeSummary summary;
+  summary.title = s.title;
+  const double D = s.pile_diameter;
+  const double factor = mpm_full_body_factor(mpm_case.geometry);
+  PileRecorder recorder(s, factor);
+  std::vector<mpm::Vec2> reference_position;  // after the K0 phase
+  MpmRunHooks hooks;
+  hooks.after_step = [&](const mpm::Solver& solver, const MpmPhase& phase, double dt) {
+    recorder.after_step(solver, phase, dt);
+  };
+  hooks.phase_end = [&](const mpm::Solver& solver, const MpmPhase& phase) {
+    recorder.phase_end(solver, phase);
+    if (phase.name == "initial-stress") {
+      initial_stress_check(s, solver, summary);
+      summary.particles = solver.particles().size();
+      reference_position = solver.particles().position;
+      if (progress != nullptr)
+        *progress << fmt::format(
+            "centrifuge: K0 stress: max |σv − ρNgz| / ρNgH = {:.2f} %, mean σv / ρNgz = {:.4f}\n",
+            100.0 * summary.initial_stress_error, summary.initial_stress_ratio);
+      return;
+    }
+    // The fields at the snapshot depths and the ends of installation and load test.
+    if (!is_installation(phase.name) && phase.name != "load-test") return;
+    const std::string stem = "fields_" + phase.name;
+    write_file_atomically(out_dir / (stem + ".csv"), fields_csv(solver, s.sand_height()));
+    std::vector<int> material_index(solver.materials().size());
+    for (std::size_t k = 0; k < material_index.size(); ++k) material_index[k] = static_cast<int>(k);
+    write_vtu(out_dir / (stem + ".vtu"),
+              mpm_particle_cloud(solver, reference_position, material_index));
+    summary.field_files.push_back(stem + ".csv");
+  };
+
+  const MpmRunSummary run = run_mpm_case(mpm_case, out_dir / "mpm", progress, {}, hooks);
+  summary.steps = run.steps;
+  summary.wall_seconds = run.wall_seconds;
+  const std::vector<PileRow>& rows = recorder.rows();
+  write_file_atomically(out_dir / "pile.csv", pile_csv(rows, D));
+
+  // The figures of the summary.
+  summary.installation_head_force = summary.installation_tip_depth_D = kNaN;
+  summary.peak_tip_stress_MPa = summary.peak_tip_stress_depth_D = kNaN;
+  summary.relaxation_travel_mm = summary.capacity = summary.load_test_displacement_mm = kNaN;
+  summary.equilibrium_error = summary.max_kinetic_to_work = kNaN;
+  const double tip_area = std::numbers::pi * 0.25 * D * D;
+  const double cell = D / s.cells_per_D;
+  double end_displacement = 0.0;
+  for (const PileRow& r : rows)
+    if (is_installation(r.phase)) end_displacement = r.displacement;
+  double sum = 0.0, weight = 0.0, last_displacement = -1.0;
+  for (const PileRow& r : rows) {
+    if (is_installation(r.phase)) {
+      const double stress = r.tip / tip_area / 1e6;
+      if (!(stress <= summary.peak_tip_stress_MPa)) {
+        summary.peak_tip_stress_MPa = stress;
+        summary.peak_tip_stress_depth_D = r.tip_depth / D;
+      }
+      const double travel = r.displacement - std::max(last_displacement, 0.0);
+      if (r.displacement >= end_displacement - cell - 1e-12 && travel > 0.0) {
+        sum += r.head * travel;
+        weight += travel;
+      }
+      if (r.pile_work > 0.0 && r.displacement >= D)
+        summary.max_kinetic_to_work =
+            std::max(std::isfinite(summary.max_kinetic_to_work) ? summary.max_kinetic_to_work : 0.0,
+                     r.kinetic / r.pile_work);
+      last_displacement = r.displacement;
+      summary.installation_tip_depth_D = r.tip_depth / D;
+    }
+    if (r.phase == "relaxation") summary.relaxation_travel_mm = -1e3 * r.phase_displacement;
+    if (r.phase == "load-test") {
+      summary.capacity = r.head;
+      summary.load_test_displacement_mm = 1e3 * r.phase_displacement;
+    }
+  }
+  if (weight > 0.0) summary.installation_head_force = sum / weight;
+  if (std::isfinite(summary.installation_head_force)) {
+    // Over windows of one cell of travel (the period of the contact noise).
+    double worst = 0.0, head = 0.0, support = 0.0, travel = 0.0, previous = 0.0;
+    for (const PileRow& r : rows) {
+      if (!is_installation(r.phase)) continue;
+      const double step = r.displacement - previous;
+      previous = r.displacement;
+      if (step <= 0.0) continue;
+      head += r.head * step;
+      support += (r.base_reaction - r.soil_weight) * step;
+      travel += step;
+      if (travel < cell * (1.0 - 1e-6)) continue;
+      if (head / travel > 0.5 * summary.installation_head_force)
+        worst = std::max(worst, std::abs(head - support) / head);
+      head = support = travel = 0.0;
+    }
+    summary.equilibrium_error = worst;
+  }
+
+  std::vector<FigureSpec> figures = run_figures(s);
+  for (const FigureSpec& f : figures) summary.figures.push_back(f.file);
+  write_file_atomically(out_dir / "plot_figures.py", plot_script_text());
+  write_file_atomically(out_dir / "figures.json", figures_json(figures));
+  if (options.plots && !figures.empty()) {
+    const PlotOutcome plots =
+        draw_figures(out_dir / "plot_figures.py", out_dir / "figures.json", options.python);
+    if (!plots.plotted) summary.plot_problem = plots.problem;
+  }
+  write_file_atomically(out_dir / "summary.json", centrifuge_summary_json(summary));
+  write_file_atomically(out_dir / "summary.md", summary_markdown(s, summary));
+  return summary;
+}
+
+}  // namespace pilempm
