@@ -1,17 +1,21 @@
 // `pilempm study ...`: the studies reproduced by one command. `calibration` runs the
 // calibration study of the Deltares report (element tests, analytical relations, the
-// stress-dependent alpha option) and writes its CSVs, figures and README.md into a folder.
+// stress-dependent alpha option) and writes its CSVs, figures and README.md into a folder;
+// `centrifuge` runs the centrifuge cases of examples/centrifuge/ and compares them.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli/commands.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/study/calibration_study.hpp"
+#include "pilempm/study/centrifuge_study.hpp"
 
 namespace pilempm::cli {
 
@@ -66,6 +70,32 @@ void run_calibration(const CalibrationFlags& flags) {
   }
 }
 
+struct CentrifugeStudyFlags {
+  std::string out;
+  std::string cases = "examples/centrifuge";
+  std::vector<std::string> groups;
+  bool resume = false;
+  bool no_plots = false;
+  bool quiet = false;
+  std::string python;
+};
+
+void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
+  CentrifugeStudyOptions options;
+  options.cases_dir = flags.cases;
+  options.groups = flags.groups;
+  options.resume = flags.resume;
+  options.plots = !flags.no_plots;
+  options.python = flags.python;
+  fmt::print(
+      "pilempm study centrifuge: cases from {}/, groups {} -> {}/\n", flags.cases,
+      flags.groups.empty() ? std::string("all") : fmt::format("{}", fmt::join(flags.groups, ", ")),
+      flags.out);
+  std::fflush(stdout);
+  run_centrifuge_study(options, flags.out, flags.quiet ? nullptr : &std::cerr);
+  fmt::print("done: the comparison is in {}/README.md\n", flags.out);
+}
+
 }  // namespace
 
 void register_study_commands(CLI::App& app) {
@@ -91,6 +121,37 @@ void register_study_commands(CLI::App& app) {
                    "/usr/bin/python3, then python3 on PATH)")
       ->type_name("PATH");
   calibration->callback([flags]() { run_calibration(*flags); });
+
+  auto centrifuge_flags = std::make_shared<CentrifugeStudyFlags>();
+  CLI::App* centrifuge = study->add_subcommand(
+      "centrifuge",
+      "the centrifuge study (BRIEF 5): installation for both densities and parameter sets, the "
+      "load tests MPM-1..4, the IGS study, the parametric study and stress-dependent alpha; each "
+      "case into DIR/<case>/, the comparisons and README.md into DIR (hours on 2 cores: see "
+      "docs/centrifuge.md)");
+  centrifuge->add_option("--out", centrifuge_flags->out, "output folder (created if needed)")
+      ->required()
+      ->type_name("DIR");
+  centrifuge->add_option("--cases", centrifuge_flags->cases, "the folder of the case files")
+      ->capture_default_str()
+      ->type_name("DIR");
+  std::vector<std::string> group_names;
+  for (const CentrifugeStudyGroup& g : centrifuge_study_groups()) group_names.push_back(g.name);
+  centrifuge
+      ->add_option("--groups", centrifuge_flags->groups,
+                   fmt::format("run only these groups ({})", fmt::join(group_names, ", ")))
+      ->delimiter(',')
+      ->check(CLI::IsMember(group_names))
+      ->type_name("GROUP,...");
+  centrifuge->add_flag("--resume", centrifuge_flags->resume,
+                       "keep the runs of an earlier call whose summary.csv exists");
+  centrifuge->add_flag("--no-plots", centrifuge_flags->no_plots, "draw no PNG files");
+  centrifuge->add_flag("--quiet", centrifuge_flags->quiet, "no progress lines on stderr");
+  centrifuge
+      ->add_option("--python", centrifuge_flags->python,
+                   "Python interpreter with matplotlib for the figures")
+      ->type_name("PATH");
+  centrifuge->callback([centrifuge_flags]() { run_centrifuge_study_command(*centrifuge_flags); });
 }
 
 }  // namespace pilempm::cli

@@ -25,7 +25,12 @@ figures.json (paths relative to its folder):
            "series": [{"csv": "oedometer.csv", "where": {"test": "oed-e0.70"},
                        "x": "sigma_v_kPa", "y": "void_ratio", "label": "e0 = 0.70",
                        "style": {"color": "C0", "linestyle": "-", "marker": "",
-                                 "linewidth": 1.6, "markersize": 5}}]}]}]}
+                                 "linewidth": 1.6, "markersize": 5},
+                       "color_by": {"column": "void_ratio", "label": "void ratio [-]",
+                                    "cmap": "viridis", "limits": [lo, hi], "log": false}}]}]}]}
+
+A series with "color_by" is a field: its points are drawn as dots coloured by that column, with
+a colour bar beside the panel ("style" gives only the dot size, "markersize").
 
 CSV files have one header line (comment lines starting with '#' are skipped); an empty cell or
 "nan" is a gap in the curve. "where" keeps the rows whose columns equal the given texts.
@@ -99,6 +104,24 @@ def series_data(tables, series):
     return [number(r[series["x"]]) for r in chosen], [number(r[series["y"]]) for r in chosen]
 
 
+def draw_field(fig, axes, tables, series):
+    """Dots at (x, y) coloured by a third column, with a colour bar."""
+    spec = series["color_by"]
+    x, y = series_data(tables, series)
+    c, _ = series_data(tables, dict(series, x=spec["column"]))
+    limits = spec.get("limits", [None, None])
+    size = series.get("style", {}).get("markersize", 2.0)
+    scale = {"vmin": limits[0], "vmax": limits[1]}
+    if spec.get("log"):
+        from matplotlib.colors import LogNorm
+        scale = {"norm": LogNorm(vmin=limits[0], vmax=limits[1])}
+        c = [v if v > 0 else math.nan for v in c]
+    points = axes.scatter(x, y, c=c, s=size, cmap=spec.get("cmap", "viridis"), linewidths=0,
+                          rasterized=True, **scale)
+    fig.colorbar(points, ax=axes, label=spec.get("label", ""))
+    axes.set_aspect("equal", adjustable="box")
+
+
 def set_axis(axes, which, spec):
     if not spec:
         return
@@ -126,8 +149,11 @@ def draw_figure(pyplot, tables, folder, figure):
     for index, panel in enumerate(panels):
         axes = axes_grid[index // cols][index % cols]
         for series in panel["series"]:
-            x, y = series_data(tables, series)
             label = series.get("label") or "_nolegend_"
+            if "color_by" in series:
+                draw_field(fig, axes, tables, series)
+                continue
+            x, y = series_data(tables, series)
             (line,) = axes.plot(x, y, label=label, **series.get("style", {}))
             if label != "_nolegend_":
                 legend_entries.setdefault(label, line)

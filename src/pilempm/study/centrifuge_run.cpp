@@ -8,6 +8,7 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <tuple>
 
 #include "pilempm/constitutive/material_state.hpp"
 #include "pilempm/core/error.hpp"
@@ -231,6 +232,10 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
   return md;
 }
 
+FigureSpec field_figure(const CentrifugeScenario& s, const std::string& phase) {
+  return centrifuge_field_figure(s, phase, "fields_" + phase + ".csv", "fields_" + phase + ".png");
+}
+
 std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
   std::vector<FigureSpec> figures;
   SeriesStyle thin;
@@ -249,7 +254,7 @@ std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
     force.y.label = "force [N]";
     for (auto [column, label] :
          {std::pair{"head_force_N", "head"}, {"tip_force_N", "tip"}, {"shaft_force_N", "shaft"}}) {
-      SeriesSpec series{"pile.csv", {}, "pile_displacement_mm", column, label, thin};
+      SeriesSpec series = curve("pile.csv", {}, "pile_displacement_mm", column, label, thin);
       for (const std::string& phase : scenario_phase_names(s))
         if (is_installation(phase)) {
           series.where = {{"phase", phase}};
@@ -270,12 +275,8 @@ std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
     tip.y.label = "tip depth [D]";
     for (const std::string& phase : scenario_phase_names(s))
       if (is_installation(phase))
-        tip.series.push_back(SeriesSpec{"pile.csv",
-                                        {{"phase", phase}},
-                                        "tip_stress_MPa",
-                                        "tip_depth_D",
-                                        "",
-                                        SeriesStyle{"C3", "-", "", 1.2, 0}});
+        tip.series.push_back(curve("pile.csv", {{"phase", phase}}, "tip_stress_MPa", "tip_depth_D",
+                                   "", SeriesStyle{"C3", "-", "", 1.2, 0}));
     tip.legend = "none";
     f.panels.push_back(tip);
     figures.push_back(f);
@@ -290,19 +291,54 @@ std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
     for (auto [column, label, colour] : {std::tuple{"head_force_N", "head", "C0"},
                                          {"tip_force_N", "tip", "C1"},
                                          {"shaft_force_N", "shaft", "C2"}})
-      panel.series.push_back(SeriesSpec{"pile.csv",
-                                        {{"phase", "load-test"}},
-                                        "phase_displacement_mm",
-                                        column,
-                                        label,
-                                        SeriesStyle{colour, "-", "", 1.4, 0}});
+      panel.series.push_back(curve("pile.csv", {{"phase", "load-test"}}, "phase_displacement_mm",
+                                   column, label, SeriesStyle{colour, "-", "", 1.4, 0}));
     f.panels.push_back(panel);
     figures.push_back(f);
   }
+  for (const std::string& phase : scenario_phase_names(s))
+    if (is_installation(phase) || phase == "load-test") figures.push_back(field_figure(s, phase));
   return figures;
 }
 
 }  // namespace
+
+FigureSpec centrifuge_field_figure(const CentrifugeScenario& s, const std::string& phase,
+                                   const std::string& csv, const std::string& file) {
+  FigureSpec f;
+  f.file = file;
+  f.title = fmt::format("{}: after {}", s.title, phase);
+  f.rows = 1;
+  f.cols = 4;
+  f.width_in = 15.0;
+  f.height_in = 6.0;
+  const double mm = 1e3 * s.pile_diameter;
+  const double deepest = s.wished_in_place_D + s.installation_D;
+  // Fixed scales, so that runs can be compared: e from dense to loose, stresses logarithmic
+  // from the overburden near the surface to the tip's MPa.
+  for (auto [column, label, map, low, high, log] :
+       {std::tuple{"void_ratio", "void ratio [-]", "viridis", 0.55, 0.95, false},
+        {"p_kPa", "p [kPa]", "magma", 5.0, 5000.0, true},
+        {"q_kPa", "q [kPa]", "magma", 5.0, 5000.0, true},
+        {"igs_rho", "IGS rho [-]", "cividis", 0.0, 1.0, false}}) {
+    PanelSpec panel;
+    panel.x.label = "r [mm]";
+    panel.y.label = "depth [mm]";
+    panel.x.limits = std::pair{0.0, std::min(3.0, s.container_radius_D) * mm};
+    panel.y.limits = std::pair{std::max(0.0, deepest - 6.0) * mm, (deepest + 3.0) * mm};
+    panel.y.invert = true;
+    panel.legend = "none";
+    SeriesSpec series = curve(csv, {}, "r_mm", "depth_mm", "", SeriesStyle{"", "", "", 0.0, 3.0});
+    series.color_by = column;
+    series.color_label = label;
+    series.colormap = map;
+    series.color_limits = std::pair{low, high};
+    series.color_log = log;
+    panel.series.push_back(series);
+    f.panels.push_back(panel);
+  }
+  return f;
+}
 
 std::string_view quick_centrifuge_case_text() {
   return {reinterpret_cast<const char*>(generated::kQuickCentrifugeCase),
@@ -329,27 +365,43 @@ const std::vector<std::string>& centrifuge_pile_columns() {
   return columns;
 }
 
+namespace {
+
+// The numbers of a summary by name, in the order of the files.
+std::vector<std::pair<std::string, double>> summary_numbers(const CentrifugeSummary& r) {
+  return {{"particles", static_cast<double>(r.particles)},
+          {"steps", static_cast<double>(r.steps)},
+          {"wall_time_s", r.wall_seconds},
+          {"initial_stress_error", r.initial_stress_error},
+          {"initial_stress_ratio", r.initial_stress_ratio},
+          {"installation_head_force_N", r.installation_head_force},
+          {"installation_tip_depth_D", r.installation_tip_depth_D},
+          {"peak_tip_stress_MPa", r.peak_tip_stress_MPa},
+          {"peak_tip_stress_depth_D", r.peak_tip_stress_depth_D},
+          {"relaxation_travel_mm", r.relaxation_travel_mm},
+          {"load_test_capacity_N", r.capacity},
+          {"load_test_displacement_mm", r.load_test_displacement_mm},
+          {"equilibrium_error", r.equilibrium_error},
+          {"max_kinetic_to_work", r.max_kinetic_to_work}};
+}
+
+}  // namespace
+
 std::string centrifuge_summary_json(const CentrifugeSummary& r) {
-  std::string json = "{\n";
-  auto add = [&json](const std::string& key, const std::string& value) {
-    json += fmt::format("  {}: {},\n", json_quote(key), value);
-  };
-  add("title", json_quote(r.title));
-  add("particles", std::to_string(r.particles));
-  add("steps", std::to_string(r.steps));
-  add("wall_time_s", number_json(r.wall_seconds));
-  add("initial_stress_error", number_json(r.initial_stress_error));
-  add("initial_stress_ratio", number_json(r.initial_stress_ratio));
-  add("installation_head_force_N", number_json(r.installation_head_force));
-  add("installation_tip_depth_D", number_json(r.installation_tip_depth_D));
-  add("peak_tip_stress_MPa", number_json(r.peak_tip_stress_MPa));
-  add("peak_tip_stress_depth_D", number_json(r.peak_tip_stress_depth_D));
-  add("relaxation_travel_mm", number_json(r.relaxation_travel_mm));
-  add("load_test_capacity_N", number_json(r.capacity));
-  add("load_test_displacement_mm", number_json(r.load_test_displacement_mm));
-  add("equilibrium_error", number_json(r.equilibrium_error));
-  json += fmt::format("  \"max_kinetic_to_work\": {}\n}}\n", number_json(r.max_kinetic_to_work));
-  return json;
+  std::string json = "{\n  \"title\": " + json_quote(r.title);
+  for (const auto& [key, value] : summary_numbers(r))
+    json += fmt::format(",\n  {}: {}", json_quote(key), number_json(value));
+  return json + "\n}\n";
+}
+
+std::string centrifuge_summary_csv(const CentrifugeSummary& r) {
+  std::string header = "# the summary of a centrifuge run (summary.md says what each is)\n";
+  std::string row;
+  for (const auto& [key, value] : summary_numbers(r)) {
+    header += (row.empty() ? "" : ",") + key;
+    row += (row.empty() ? "" : ",") + fmt::format("{:.8g}", value);
+  }
+  return header + "\n" + row + "\n";
 }
 
 CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string& case_text,
@@ -466,6 +518,7 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
     if (!plots.plotted) summary.plot_problem = plots.problem;
   }
   write_file_atomically(out_dir / "summary.json", centrifuge_summary_json(summary));
+  write_file_atomically(out_dir / "summary.csv", centrifuge_summary_csv(summary));
   write_file_atomically(out_dir / "summary.md", summary_markdown(s, summary));
   return summary;
 }

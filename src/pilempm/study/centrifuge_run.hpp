@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "pilempm/scenario/centrifuge_scenario.hpp"
+#include "pilempm/study/figures.hpp"
 
 namespace pilempm {
 
@@ -57,10 +58,17 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& scenario, const std::
 /// The built-in quick case (examples/centrifuge/quick.toml), the README's main job.
 std::string_view quick_centrifuge_case_text();
 
+/// The figure of the fields (void ratio, p, q, IGS ρ) around the pile after `phase` of a run of
+/// `scenario`, from `csv` (a fields_<phase>.csv), drawn into `file`.
+FigureSpec centrifuge_field_figure(const CentrifugeScenario& scenario, const std::string& phase,
+                                   const std::string& csv, const std::string& file);
+
 /// The column names of pile.csv, in order.
 const std::vector<std::string>& centrifuge_pile_columns();
 
 /// summary.json of a run.
 std::string centrifuge_summary_json(const CentrifugeSummary& summary);
+/// summary.csv of a run: a header and one row of the numbers of summary.json (nan where none).
+std::string centrifuge_summary_csv(const CentrifugeSummary& summary);
 
 }  // namespace pilempm

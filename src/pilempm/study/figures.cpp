@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "pilempm/core/error.hpp"
 
@@ -24,6 +25,7 @@ std::string axis_json(const AxisSpec& axis) {
   if (axis.limits)
     out += fmt::format(", \"limits\": [{}, {}]", json_number(axis.limits->first),
                        json_number(axis.limits->second));
+  if (axis.invert) out += ", \"invert\": true";
   return out + "}";
 }
 
@@ -42,10 +44,20 @@ std::string series_json(const SeriesSpec& s) {
   for (std::size_t i = 0; i < s.where.size(); ++i)
     where += (i ? ", " : "") + json_quote(s.where[i].first) + ": " + json_quote(s.where[i].second);
   where += "}";
+  std::string color;
+  if (!s.color_by.empty()) {
+    color = ", \"color_by\": {\"column\": " + json_quote(s.color_by) +
+            ", \"label\": " + json_quote(s.color_label) + ", \"cmap\": " + json_quote(s.colormap);
+    if (s.color_limits)
+      color += fmt::format(", \"limits\": [{}, {}]", json_number(s.color_limits->first),
+                           json_number(s.color_limits->second));
+    if (s.color_log) color += ", \"log\": true";
+    color += "}";
+  }
   return fmt::format(
-      "{{\"csv\": {}, \"where\": {}, \"x\": {}, \"y\": {}, \"label\": {}, \"style\": {}}}",
+      "{{\"csv\": {}, \"where\": {}, \"x\": {}, \"y\": {}, \"label\": {}, \"style\": {}{}}}",
       json_quote(s.csv), where, json_quote(s.x), json_quote(s.y), json_quote(s.label),
-      style_json(s.style));
+      style_json(s.style), color);
 }
 
 std::string panel_json(const PanelSpec& p) {
@@ -60,6 +72,18 @@ std::string panel_json(const PanelSpec& p) {
 }
 
 }  // namespace
+
+SeriesSpec curve(std::string csv, std::vector<std::pair<std::string, std::string>> where,
+                 std::string x, std::string y, std::string label, SeriesStyle style) {
+  SeriesSpec s;
+  s.csv = std::move(csv);
+  s.where = std::move(where);
+  s.x = std::move(x);
+  s.y = std::move(y);
+  s.label = std::move(label);
+  s.style = std::move(style);
+  return s;
+}
 
 std::string figures_json(const std::vector<FigureSpec>& figures) {
   std::string out = "{\n  \"version\": 1,\n  \"figures\": [";

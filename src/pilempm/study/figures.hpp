@@ -15,6 +15,7 @@ struct AxisSpec {
   std::string label;  ///< with the unit, e.g. "vertical stress [kPa]"
   bool log = false;
   std::optional<std::pair<double, double>> limits;
+  bool invert = false;  ///< values grow downwards (depth) or to the left
 };
 
 struct SeriesStyle {
@@ -31,7 +32,17 @@ struct SeriesSpec {
   std::string x, y;                                        ///< column names
   std::string label;                                       ///< legend text ("" = none)
   SeriesStyle style;
+  /// A field: the points coloured by this column (a scatter with a colour bar), "" = a curve.
+  std::string color_by;
+  std::string color_label;                                ///< of the colour bar, with the unit
+  std::string colormap = "viridis";                       ///< a matplotlib colour map
+  std::optional<std::pair<double, double>> color_limits;  ///< the values at its ends
+  bool color_log = false;                                 ///< a logarithmic colour scale
 };
+
+/// A curve of `y` against `x` from the rows of `csv` that match `where`.
+SeriesSpec curve(std::string csv, std::vector<std::pair<std::string, std::string>> where,
+                 std::string x, std::string y, std::string label, SeriesStyle style = {});
 
 struct PanelSpec {
   std::string title;

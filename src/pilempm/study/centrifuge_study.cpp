@@ -1,0 +1,294 @@
+#include "pilempm/study/centrifuge_study.hpp"
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "pilempm/core/error.hpp"
+#include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/io/element_output.hpp"
+#include "pilempm/study/centrifuge_run.hpp"
+#include "pilempm/study/csv_table.hpp"
+#include "pilempm/study/figures.hpp"
+#include "pilempm/study/plotting.hpp"
+
+namespace pilempm {
+
+namespace {
+
+std::string stem(const std::string& file) {
+  return std::filesystem::path(file).stem().string();
+}
+
+std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path.string(), 0, "", "", "cannot open the case file for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+const std::vector<std::string> kColours{"C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7"};
+
+// Head force against pile displacement during installation, one curve per case.
+PanelSpec installation_panel(const std::string& title,
+                             const std::vector<CentrifugeStudyCase>& cases) {
+  PanelSpec panel;
+  panel.title = title;
+  panel.x.label = "pile displacement [mm]";
+  panel.y.label = "head force [N]";
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    panel.series.push_back(curve(stem(cases[k].file) + "/pile.csv", {{"phase", "installation"}},
+                                 "pile_displacement_mm", "head_force_N", cases[k].label,
+                                 SeriesStyle{kColours[k % kColours.size()], "-", "", 1.3, 0}));
+  return panel;
+}
+
+std::vector<CentrifugeStudyCase> cases_of(const CentrifugeStudyGroup& group,
+                                          std::initializer_list<int> indices) {
+  std::vector<CentrifugeStudyCase> cases;
+  for (int k : indices) cases.push_back(group.cases.at(static_cast<std::size_t>(k)));
+  return cases;
+}
+
+std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
+                                      const std::filesystem::path& cases_dir) {
+  std::vector<FigureSpec> figures;
+  FigureSpec f;
+  f.title = group.title;
+  if (group.name == "installation") {
+    f.file = "installation.png";
+    f.cols = 2;
+    f.width_in = 13.0;
+    f.height_in = 5.0;
+    f.sharey = true;
+    f.panels = {installation_panel("medium dense, e0 = 0.68", cases_of(group, {0, 1, 2})),
+                installation_panel("loose, e0 = 0.75", cases_of(group, {3, 4, 5}))};
+    figures.push_back(f);
+  } else if (group.name == "slt") {
+    f.file = "load_tests.png";
+    PanelSpec panel;
+    panel.x.label = "pile displacement in the load test [mm]";
+    panel.y.label = "head force [N]";
+    for (std::size_t k = 0; k < group.cases.size(); ++k)
+      panel.series.push_back(curve(stem(group.cases[k].file) + "/pile.csv",
+                                   {{"phase", "load-test"}}, "phase_displacement_mm",
+                                   "head_force_N", group.cases[k].label,
+                                   SeriesStyle{kColours[k], "-", "", 1.5, 0}));
+    f.panels.push_back(panel);
+    figures.push_back(f);
+  } else if (group.name == "igs") {
+    f.file = "igs_void_ratio.png";
+    f.cols = static_cast<int>(group.cases.size());
+    f.width_in = 4.0 * f.cols;
+    f.height_in = 6.0;
+    for (const CentrifugeStudyCase& c : group.cases) {
+      const CentrifugeScenario s = read_centrifuge_case(cases_dir / c.file);
+      const std::string dir = stem(c.file);
+      PanelSpec panel =
+          centrifuge_field_figure(s, "installation", dir + "/fields_installation.csv", "")
+              .panels.front();
+      panel.title = c.label;
+      panel.y.limits = std::pair{0.0, 1e3 * s.pile_diameter * (s.installation_D + 4.0)};
+      f.panels.push_back(panel);
+    }
+    figures.push_back(f);
+    FigureSpec forces;
+    forces.file = "igs_head_force.png";
+    forces.title = group.title;
+    forces.panels = {installation_panel("head force", group.cases)};
+    figures.push_back(forces);
+  } else if (group.name == "parametric") {
+    f.file = "parametric.png";
+    f.rows = 2;
+    f.cols = 3;
+    f.width_in = 16.0;
+    f.height_in = 9.0;
+    f.sharey = true;
+    const std::vector<std::pair<std::string, std::initializer_list<int>>> panels{
+        {"h_s", {0, 1, 2}},
+        {"n", {0, 3, 4}},
+        {"alpha", {0, 5, 6}},
+        {"e_d0 and e_c0", {0, 7, 8}},
+        {"e0", {0, 9, 10}}};
+    for (const auto& [title, indices] : panels)
+      f.panels.push_back(installation_panel(title, cases_of(group, indices)));
+    figures.push_back(f);
+  } else if (group.name == "checks") {
+    f.file = "checks.png";
+    f.cols = 2;
+    f.width_in = 13.0;
+    f.height_in = 5.0;
+    f.sharey = true;
+    f.panels = {installation_panel("mesh convergence (0.1 m/s)", cases_of(group, {0, 1, 2, 3})),
+                installation_panel("jacking speed (D/6)", cases_of(group, {2, 4}))};
+    figures.push_back(f);
+  } else {
+    f.file = "stress_dependent_alpha.png";
+    f.cols = 2;
+    f.width_in = 12.0;
+    f.height_in = 4.8;
+    f.panels.push_back(installation_panel("installation", group.cases));
+    PanelSpec slt;
+    slt.title = "static load test";
+    slt.x.label = "pile displacement in the load test [mm]";
+    slt.y.label = "head force [N]";
+    for (std::size_t k = 0; k < group.cases.size(); ++k)
+      slt.series.push_back(curve(stem(group.cases[k].file) + "/pile.csv", {{"phase", "load-test"}},
+                                 "phase_displacement_mm", "head_force_N", group.cases[k].label,
+                                 SeriesStyle{kColours[k], "-", "", 1.5, 0}));
+    f.panels.push_back(slt);
+    figures.push_back(f);
+  }
+  return figures;
+}
+
+std::string cell(const NumericTable& t, const std::string& column, const char* format,
+                 double scale = 1.0) {
+  if (!t.has(column) || t.rows() == 0) return "-";
+  const double v = t.column(column).back();
+  return std::isfinite(v) ? fmt::format(fmt::runtime(format), scale * v) : std::string("-");
+}
+
+}  // namespace
+
+const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
+  static const std::vector<CentrifugeStudyGroup> groups{
+      {"checks",
+       "numerical checks: small model, installation 3 D to 6 D",
+       {{"check_mesh_d3.toml", "D/3"},
+        {"check_mesh_d4.toml", "D/4"},
+        {"check_mesh_d6.toml", "D/6"},
+        {"check_mesh_d8.toml", "D/8"},
+        {"check_speed_0.05.toml", "D/6 at 0.05 m/s"}}},
+      {"installation",
+       "installation 10 D to 20 D (IGS 3): head force",
+       {{"md_original.toml", "medium dense, original"},
+        {"md_modified.toml", "medium dense, modified alpha 0.03"},
+        {"md_modified_alpha006.toml", "medium dense, modified alpha 0.06"},
+        {"loose_original.toml", "loose, original"},
+        {"loose_modified.toml", "loose, modified alpha 0.03"},
+        {"loose_modified_alpha006.toml", "loose, modified alpha 0.06"}}},
+      {"slt",
+       "static load tests MPM-1..4 (medium dense)",
+       {{"mpm1_wished_in_place.toml", "MPM-1 (wished in place at 20 D, original)"},
+        {"md_original.toml", "MPM-2 (installed, original)"},
+        {"md_modified.toml", "MPM-3 (installed, modified)"},
+        {"mpm4_modified_then_original.toml", "MPM-4 (installed modified, SLT original)"}}},
+      {"igs",
+       "IGS study: small model (R = 6 D), installation to 4.7 D",
+       {{"igs1_small.toml", "IGS 1"},
+        {"igs2_small.toml", "IGS 2"},
+        {"igs3_small.toml", "IGS 3"},
+        {"igs4_small.toml", "IGS 4"}}},
+      {"parametric",
+       "parametric study: small model, installation 5 D to 10 D, original set varied",
+       {{"par_base.toml", "original set"},
+        {"par_hs2000.toml", "h_s = 2000 MPa"},
+        {"par_hs8000.toml", "h_s = 8000 MPa"},
+        {"par_n0.32.toml", "n = 0.32"},
+        {"par_n0.52.toml", "n = 0.52"},
+        {"par_alpha0.06.toml", "alpha = 0.06"},
+        {"par_alpha0.18.toml", "alpha = 0.18"},
+        {"par_emin_emax_low.toml", "e_d0 = 0.51, e_c0 = 0.88"},
+        {"par_emin_emax_high.toml", "e_d0 = 0.59, e_c0 = 0.97"},
+        {"par_e0_0.62.toml", "e0 = 0.62"},
+        {"par_e0_0.75.toml", "e0 = 0.75"}}},
+      {"stress-alpha",
+       "stress-dependent alpha (BRIEF 6) against the original set",
+       {{"md_original.toml", "original, alpha = 0.12"},
+        {"md_stress_dependent_alpha.toml", "original, stress-dependent alpha"}}},
+  };
+  return groups;
+}
+
+void run_centrifuge_study(const CentrifugeStudyOptions& options,
+                          const std::filesystem::path& out_dir, std::ostream* progress) {
+  std::vector<std::string> names;
+  for (const CentrifugeStudyGroup& g : centrifuge_study_groups()) names.push_back(g.name);
+  for (const std::string& name : options.groups)
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      throw InputError("", 0, "--groups", name, fmt::format("one of {}", fmt::join(names, ", ")));
+  std::vector<const CentrifugeStudyGroup*> groups;
+  for (const CentrifugeStudyGroup& g : centrifuge_study_groups())
+    if (options.groups.empty() ||
+        std::find(options.groups.begin(), options.groups.end(), g.name) != options.groups.end())
+      groups.push_back(&g);
+
+  // Every case file is read and checked before the first run.
+  std::vector<std::string> files;
+  for (const CentrifugeStudyGroup* g : groups)
+    for (const CentrifugeStudyCase& c : g->cases)
+      if (std::find(files.begin(), files.end(), c.file) == files.end()) files.push_back(c.file);
+  std::vector<std::pair<CentrifugeScenario, std::string>> scenarios;
+  for (const std::string& file : files) {
+    const std::filesystem::path path = options.cases_dir / file;
+    std::string text = read_text(path);
+    scenarios.emplace_back(read_centrifuge_case_text(text, path.string()), std::move(text));
+  }
+  prepare_output_directory(out_dir);
+
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    const std::filesystem::path dir = out_dir / stem(files[k]);
+    if (options.resume && std::filesystem::exists(dir / "summary.csv")) {
+      if (progress != nullptr)
+        *progress << fmt::format("study: {} done before, kept ({}/{})\n", files[k], k + 1,
+                                 files.size());
+      continue;
+    }
+    if (progress != nullptr)
+      *progress << fmt::format("study: running {} ({}/{})\n", files[k], k + 1, files.size())
+                << std::flush;
+    CentrifugeRunOptions run_options;
+    run_options.plots = options.plots;
+    run_options.python = options.python;
+    const CentrifugeSummary s =
+        run_centrifuge(scenarios[k].first, scenarios[k].second, dir, progress, run_options);
+    if (progress != nullptr)
+      *progress << fmt::format(
+          "study: {} done in {:.1f} s: head force {:.1f} N, capacity {:.1f} N\n", files[k],
+          s.wall_seconds, s.installation_head_force, s.capacity);
+  }
+
+  // The comparisons and the table.
+  std::vector<FigureSpec> figures;
+  std::string readme =
+      "# Centrifuge study\n\nEach run is in its folder (`<case>/summary.md`, "
+      "`pile.csv`, plots); the figures here compare the runs of a group. Forces "
+      "of the full pile; the head force at the end of installation is the mean "
+      "over the last cell of travel.\n";
+  for (const CentrifugeStudyGroup* g : groups) {
+    for (FigureSpec& f : group_figures(*g, options.cases_dir)) figures.push_back(std::move(f));
+    readme += fmt::format("\n## {}\n\n", g->title);
+    readme +=
+        "| run | case file | head force end of installation [N] | peak tip stress [MPa] | "
+        "SLT capacity at 0.1 D [N] | equilibrium error [%] | kinetic / work [%] | wall time "
+        "[s] |\n|---|---|---|---|---|---|---|---|\n";
+    for (const CentrifugeStudyCase& c : g->cases) {
+      const NumericTable t = read_numeric_csv(out_dir / stem(c.file) / "summary.csv");
+      readme += fmt::format(
+          "| {} | `{}` | {} | {} | {} | {} | {} | {} |\n", c.label, c.file,
+          cell(t, "installation_head_force_N", "{:.1f}"), cell(t, "peak_tip_stress_MPa", "{:.2f}"),
+          cell(t, "load_test_capacity_N", "{:.1f}"), cell(t, "equilibrium_error", "{:.2f}", 100.0),
+          cell(t, "max_kinetic_to_work", "{:.3f}", 100.0), cell(t, "wall_time_s", "{:.0f}"));
+    }
+  }
+  write_file_atomically(out_dir / "plot_figures.py", plot_script_text());
+  write_file_atomically(out_dir / "figures.json", figures_json(figures));
+  readme += "\nFigures: ";
+  for (const FigureSpec& f : figures) readme += fmt::format("`{}` ", f.file);
+  readme += "(drawn by `/usr/bin/python3 plot_figures.py figures.json` in this folder).\n";
+  write_file_atomically(out_dir / "README.md", readme);
+  if (options.plots) {
+    const PlotOutcome plots =
+        draw_figures(out_dir / "plot_figures.py", out_dir / "figures.json", options.python);
+    if (!plots.plotted && progress != nullptr)
+      *progress << fmt::format("study: the figures were not drawn: {}\n", plots.problem);
+  }
+}
+
+}  // namespace pilempm
