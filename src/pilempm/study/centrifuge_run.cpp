@@ -216,6 +216,9 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
                   value(100.0 * r.equilibrium_error, "{:.2f}"));
   md += fmt::format("| max kinetic energy / pile work, installation | {} % |\n",
                     value(100.0 * r.max_kinetic_to_work, "{:.3f}"));
+  md += fmt::format("| particles inside the pile (deeper than a quarter cell), at phase ends | "
+                    "{} |\n| smallest particle radius | {} mm |\n",
+                    r.particles_in_pile, value(r.min_radius_mm, "{:.3f}"));
   md += fmt::format("| particles; steps; wall time | {}; {}; {:.1f} s |\n", r.particles, r.steps,
                     r.wall_seconds);
   md +=
@@ -382,7 +385,9 @@ std::vector<std::pair<std::string, double>> summary_numbers(const CentrifugeSumm
           {"load_test_capacity_N", r.capacity},
           {"load_test_displacement_mm", r.load_test_displacement_mm},
           {"equilibrium_error", r.equilibrium_error},
-          {"max_kinetic_to_work", r.max_kinetic_to_work}};
+          {"max_kinetic_to_work", r.max_kinetic_to_work},
+          {"particles_in_pile", static_cast<double>(r.particles_in_pile)},
+          {"min_radius_mm", r.min_radius_mm}};
 }
 
 }  // namespace
@@ -423,8 +428,19 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
   hooks.after_step = [&](const mpm::Solver& solver, const MpmPhase& phase, double dt) {
     recorder.after_step(solver, phase, dt);
   };
+  summary.min_radius_mm = kNaN;
   hooks.phase_end = [&](const mpm::Solver& solver, const MpmPhase& phase) {
     recorder.phase_end(solver, phase);
+    // No particle passes through the pile, none crosses the axis.
+    std::size_t inside = 0;
+    double min_radius = std::numeric_limits<double>::infinity();
+    const double depth = 0.25 * D / s.cells_per_D;
+    for (const mpm::Vec2& x : solver.particles().position) {
+      if (solver.rigid_body(0).signed_distance(x) < -depth) ++inside;
+      min_radius = std::min(min_radius, x.x());
+    }
+    summary.particles_in_pile = std::max(summary.particles_in_pile, inside);
+    if (!(1e3 * min_radius >= summary.min_radius_mm)) summary.min_radius_mm = 1e3 * min_radius;
     if (phase.name == "initial-stress") {
       initial_stress_check(s, solver, summary);
       summary.particles = solver.particles().size();

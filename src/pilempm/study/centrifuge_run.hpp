@@ -44,6 +44,10 @@ struct CentrifugeSummary {
   /// max kinetic energy (with the scaled mass) / pile work during installation after the first
   /// D of travel.
   double max_kinetic_to_work = 0.0;
+  /// The most particles found inside the pile (deeper than a quarter cell) at a phase end, and
+  /// the smallest radius of a particle then [mm] (the axis is r = 0).
+  std::size_t particles_in_pile = 0;
+  double min_radius_mm = 0.0;
   std::vector<std::string> field_files;
   std::vector<std::string> figures;
   std::string plot_problem;  ///< "" when the figures were drawn (or not asked for)
