@@ -35,6 +35,22 @@ std::vector<double> installation_stops_D(const CentrifugeScenario& s) {
   return stops;
 }
 
+// A TOML basic string: the text in double quotes with '"', '\\' and control characters escaped.
+std::string toml_string(const std::string& text) {
+  std::string out = "\"";
+  for (char ch : text) {
+    if (ch == '"' || ch == '\\') {
+      out += '\\';
+      out += ch;
+    } else if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) {
+      out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(ch)));
+    } else {
+      out += ch;
+    }
+  }
+  return out + "\"";
+}
+
 std::string depth_label(double depth_D) {
   return fmt::format("{:g}D", depth_D);
 }
@@ -85,10 +101,11 @@ void validate(const CentrifugeScenario& s) {
   require(s.installation_D > 0.0 || s.load_test_D > 0.0, "load_test.displacement_D", s.load_test_D,
           "> 0 when there is no installation (the run must move the pile)");
   for (double depth : s.snapshot_depths_D)
-    require(depth >= 0.0 && depth <= deepest, "installation.snapshot_depths_D", depth,
-            fmt::format("in [0, {:g}] (tip depths below the surface [D] up to the end of "
-                        "installation)",
-                        deepest));
+    require(depth > s.wished_in_place_D && depth <= deepest, "installation.snapshot_depths_D",
+            depth,
+            fmt::format("in ({:g}, {:g}] (tip depths below the surface [D] the pile passes "
+                        "during installation)",
+                        s.wished_in_place_D, deepest));
   require(s.cells_per_D >= 1.0, "mesh.cells_per_D", s.cells_per_D, ">= 1");
   require(s.jacking.velocity > 0.0, "installation.velocity_m_per_s", s.jacking.velocity, "> 0");
   require(s.relaxation_motion.velocity > 0.0, "relaxation.velocity_m_per_s",
@@ -138,7 +155,7 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
     t += '\n';
   };
   line("# Written by pilempm from a centrifuge scenario (docs/centrifuge.md).");
-  line(fmt::format("title = \"{}\"", s.title));
+  line("title = " + toml_string(s.title));
   line("");
   line("[geometry]");
   line("kind = \"axisymmetric\"");
@@ -184,7 +201,7 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
   line(fmt::format("x_min_m = 0.0\nx_max_m = {:.9g}\ny_min_m = 0.0\ny_max_m = {:.9g}", R, H));
   line(fmt::format("particles_per_cell = {}", s.particles_per_cell));
   line(fmt::format("density_kg_per_m3 = {:.9g}", s.sand_density()));
-  line(fmt::format("material = \"{}\"", s.installation_material));
+  line("material = " + toml_string(s.installation_material));
   line(fmt::format("igs = \"{}\"", s.igs));
   line("initial_stress = \"geostatic\"");
   line(fmt::format("K0 = {:.9g}", scenario_K0(s)));
@@ -250,7 +267,7 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
     motion(-1.0, s.load_test_motion);
     if (!s.load_test_material.empty() && s.load_test_material != s.installation_material) {
       line("[phase.materials]");
-      line(fmt::format("\"{}\" = \"{}\"", s.installation_material, s.load_test_material));
+      line(toml_string(s.installation_material) + " = " + toml_string(s.load_test_material));
     }
   }
   return t;

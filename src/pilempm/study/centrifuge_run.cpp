@@ -85,8 +85,8 @@ class PileRecorder {
     row.time = solver.time();
     row.phase = phase;
     const double y = pile_y(solver);
-    row.displacement = -y;
-    row.phase_displacement = -(y - phase_start_y_);
+    row.displacement = 0.0 - y;  // 0 - y: no "-0" in the file
+    row.phase_displacement = 0.0 - (y - phase_start_y_);
     row.tip_depth = s_.wished_in_place_D * s_.pile_diameter - y;
     row.head = factor_ * f.total.y();
     row.tip = f.parts.size() > 0 ? factor_ * f.parts[0].y() : 0.0;
@@ -216,9 +216,10 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
                   value(100.0 * r.equilibrium_error, "{:.2f}"));
   md += fmt::format("| max kinetic energy / pile work, installation | {} % |\n",
                     value(100.0 * r.max_kinetic_to_work, "{:.3f}"));
-  md += fmt::format("| particles inside the pile (deeper than a quarter cell), at phase ends | "
-                    "{} |\n| smallest particle radius | {} mm |\n",
-                    r.particles_in_pile, value(r.min_radius_mm, "{:.3f}"));
+  md += fmt::format(
+      "| particles inside the pile (deeper than a quarter cell), at phase ends | "
+      "{} |\n| smallest particle radius | {} mm |\n",
+      r.particles_in_pile, value(r.min_radius_mm, "{:.3f}"));
   md += fmt::format("| particles; steps; wall time | {}; {}; {:.1f} s |\n", r.particles, r.steps,
                     r.wall_seconds);
   md +=
