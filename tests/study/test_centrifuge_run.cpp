@@ -1,0 +1,142 @@
+// A whole centrifuge run on a tiny, coarse model (seconds on one thread): the K0 stress, the
+// pile's equilibrium with the container's reaction and the sand's weight, no sand inside the pile,
+// the relaxation and load-test rules, and the files a run writes.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "pilempm/study/centrifuge_run.hpp"
+#include "pilempm/study/csv_table.hpp"
+
+namespace pilempm {
+namespace {
+
+namespace fs = std::filesystem;
+
+CentrifugeScenario tiny_scenario() {
+  CentrifugeScenario s;
+  s.title = "tiny";
+  s.container_radius_D = 4.0;
+  s.sand_height_D = 8.0;
+  s.wished_in_place_D = 2.0;
+  s.installation_D = 1.5;
+  s.cells_per_D = 2.0;
+  s.fine_radius_D = 2.0;
+  s.fine_depth_below_tip_D = 2.0;
+  s.headroom_D = 1.0;
+  s.threads = 1;
+  return s;
+}
+
+class CentrifugeRunTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new fs::path(fs::temp_directory_path() /
+                        ("pilempm-centrifuge-run-" + std::to_string(::getpid())));
+    CentrifugeRunOptions options;
+    options.plots = false;
+    summary_ = new CentrifugeSummary(run_centrifuge(tiny_scenario(), "", *dir_, nullptr, options));
+    pile_ = new NumericTable(read_numeric_csv_without(*dir_ / "pile.csv"));
+  }
+  static void TearDownTestSuite() {
+    std::error_code ec;
+    fs::remove_all(*dir_, ec);
+    delete pile_;
+    delete summary_;
+    delete dir_;
+  }
+  // pile.csv without its text column "phase" (read_numeric_csv takes numbers only).
+  static NumericTable read_numeric_csv_without(const fs::path& path) {
+    std::string text;
+    {
+      std::ifstream in(path);
+      std::string line;
+      while (std::getline(in, line)) {
+        if (line.rfind('#', 0) == 0) continue;
+        const auto first = line.find(',');
+        const auto second = line.find(',', first + 1);
+        text += line.substr(0, first) + line.substr(second) + "\n";
+      }
+    }
+    return parse_numeric_csv(text, path.string());
+  }
+
+  static fs::path* dir_;
+  static CentrifugeSummary* summary_;
+  static NumericTable* pile_;
+};
+
+fs::path* CentrifugeRunTest::dir_ = nullptr;
+CentrifugeSummary* CentrifugeRunTest::summary_ = nullptr;
+NumericTable* CentrifugeRunTest::pile_ = nullptr;
+
+TEST_F(CentrifugeRunTest, K0StressIsTheOverburdenAtNg) {
+  // σv = ρ N g z after the K0 phase, within 1 % of ρ N g H everywhere beyond 2 D of the pile.
+  EXPECT_LT(summary_->initial_stress_error, 0.01);
+  EXPECT_NEAR(summary_->initial_stress_ratio, 1.0, 0.01);
+}
+
+TEST_F(CentrifugeRunTest, HeadForceBalancesTheContainerReactionMinusTheSandWeight) {
+  // Over windows of one cell of travel: F_head = R_base − W within 2 %.
+  EXPECT_GT(summary_->installation_head_force, 0.0);
+  EXPECT_LT(summary_->equilibrium_error, 0.02);
+  // And in the load test, row by row means (a tenth of the record interval), within 10 % of the
+  // head force at its end, where the forces are largest.
+  const std::vector<double>& head = pile_->column("head_force_N");
+  const std::vector<double>& residual = pile_->column("equilibrium_residual_N");
+  ASSERT_GT(head.size(), 5u);
+  EXPECT_LT(std::abs(residual.back()), 0.1 * head.back());
+}
+
+TEST_F(CentrifugeRunTest, HeadForceIsTipPlusShaft) {
+  const std::vector<double>& head = pile_->column("head_force_N");
+  const std::vector<double>& tip = pile_->column("tip_force_N");
+  const std::vector<double>& shaft = pile_->column("shaft_force_N");
+  for (std::size_t k = 0; k < head.size(); ++k)
+    EXPECT_NEAR(head[k], tip[k] + shaft[k], 1e-5 * std::abs(head[k]) + 1e-4)
+        << "row " << k;  // 6 digits
+}
+
+TEST_F(CentrifugeRunTest, NoSandEntersThePileOrCrossesTheAxis) {
+  EXPECT_EQ(summary_->particles_in_pile, 0u);
+  EXPECT_GE(summary_->min_radius_mm, 0.0);
+  EXPECT_GT(summary_->particles, 100u);
+}
+
+TEST_F(CentrifugeRunTest, KineticEnergyIsSmallAgainstThePileWork) {
+  // (after the first D of travel, with the scaled mass)
+  EXPECT_LT(summary_->max_kinetic_to_work, 0.01);
+}
+
+TEST_F(CentrifugeRunTest, PhasesFollowTheirRules) {
+  // Installation ends 1.5 D deeper; relaxation pulls up by at most 0.05 D; the load test pushes
+  // 0.1 D and carries a positive head force at its end.
+  EXPECT_NEAR(summary_->installation_tip_depth_D, 3.5, 1e-9);
+  EXPECT_GT(summary_->relaxation_travel_mm, 0.0);
+  EXPECT_LE(summary_->relaxation_travel_mm, 0.05 * 11.3 + 1e-9);
+  EXPECT_NEAR(summary_->load_test_displacement_mm, 0.1 * 11.3, 1e-6);
+  EXPECT_GT(summary_->capacity, 0.0);
+  // The tip stress is the tip force over π D²/4.
+  const double area = M_PI * 0.25 * 0.0113 * 0.0113;
+  EXPECT_NEAR(pile_->column("tip_stress_MPa").back(),
+              pile_->column("tip_force_N").back() / area / 1e6,
+              1e-5 * std::abs(pile_->column("tip_stress_MPa").back()));
+}
+
+TEST_F(CentrifugeRunTest, WritesItsFiles) {
+  for (const char* file :
+       {"pile.csv", "summary.md", "summary.json", "summary.csv", "mpm_case.toml",
+        "fields_installation.csv", "fields_installation.vtu", "fields_load-test.csv",
+        "figures.json", "mpm/energies.csv", "mpm/bodies.csv"})
+    EXPECT_TRUE(fs::exists(*dir_ / file)) << file;
+  const NumericTable summary = read_numeric_csv(*dir_ / "summary.csv");
+  EXPECT_NEAR(summary.column("installation_head_force_N").front(),
+              summary_->installation_head_force, 1e-6 * summary_->installation_head_force);
+}
+
+}  // namespace
+}  // namespace pilempm
