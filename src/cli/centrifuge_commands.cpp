@@ -8,15 +8,14 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "cli/commands.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/io/toml_reader.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 
 namespace pilempm::cli {
@@ -31,14 +30,6 @@ struct CentrifugeFlags {
   bool no_plots = false;
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "", "cannot open the case file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 std::string shown(double value, const char* format) {
   return std::isfinite(value) ? fmt::format(fmt::runtime(format), value) : std::string("-");
 }
@@ -47,7 +38,7 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
   const bool builtin = flags.case_file.empty();
   const std::string source = builtin ? std::string("built-in quick case") : flags.case_file;
   const std::string text =
-      builtin ? std::string(quick_centrifuge_case_text()) : read_text(flags.case_file);
+      builtin ? std::string(quick_centrifuge_case_text()) : read_case_text(flags.case_file);
   const CentrifugeScenario scenario = read_centrifuge_case_text(text, source);
   fmt::print("{}: \"{}\", phases {} -> {}/\n", source, scenario.title,
              fmt::join(scenario_phase_names(scenario), ", "), flags.out);
@@ -110,7 +101,7 @@ void register_centrifuge_commands(CLI::App& app) {
   show->callback([case_file]() {
     const bool builtin = case_file->empty();
     const std::string text =
-        builtin ? std::string(quick_centrifuge_case_text()) : read_text(*case_file);
+        builtin ? std::string(quick_centrifuge_case_text()) : read_case_text(*case_file);
     const CentrifugeScenario s =
         read_centrifuge_case_text(text, builtin ? "built-in quick case" : *case_file);
     fmt::print("{}", centrifuge_mpm_case(s));

@@ -166,7 +166,7 @@ TEST(CentrifugeCase, ValidationErrorPointsAtTheLineOfTheKey) {
   const std::string snapshots =
       std::string(kMinimal) + "[installation]\n\nsnapshot_depths_D = [12.0, 25.0]\n";
   expect_centrifuge_error(snapshots, "snapshot_depths_D",
-                          {"installation.snapshot_depths_D = 25", "[0, 20]"});
+                          {"installation.snapshot_depths_D = 25", "(10, 20]"});
 }
 
 TEST(CentrifugeCase, UnknownSandMaterialIsAnError) {

@@ -3,9 +3,6 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include <fstream>
-#include <sstream>
-
 #include "pilempm/io/material_reader.hpp"
 #include "pilempm/io/toml_reader.hpp"
 
@@ -177,12 +174,7 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
 }
 
 CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(name, 0, "", "", "cannot open the case file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return read_centrifuge_case_text(text.str(), name);
+  return read_centrifuge_case_text(read_case_text(path), path.string());
 }
 
 MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario, const std::string& source_name) {

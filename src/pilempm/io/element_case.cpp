@@ -302,12 +302,7 @@ ElementCaseFile parse_element_case(std::string text, const std::string& source_n
 }
 
 ElementCaseFile read_element_case_file(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(name, 0, "", "", "cannot open the case file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return parse_element_case(text.str(), name);
+  return parse_element_case(read_case_text(path), path.string());
 }
 
 std::string_view builtin_element_case_text() {

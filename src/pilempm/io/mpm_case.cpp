@@ -604,12 +604,7 @@ MpmCase read_mpm_case_text(std::string_view text, const std::string& source_name
 }
 
 MpmCase read_mpm_case(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(name, 0, "", "", "cannot open the case file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return read_mpm_case_text(text.str(), name);
+  return read_mpm_case_text(read_case_text(path), path.string());
 }
 
 mpm::Grid make_mpm_grid(const MpmCase& c) {

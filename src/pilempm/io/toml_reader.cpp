@@ -70,13 +70,16 @@ std::string NumberRange::describe() const {
   return "a finite number";
 }
 
-toml::table parse_toml_file(const std::filesystem::path& path) {
-  const std::string name = path.string();
+std::string read_case_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(name, 0, "", "", "cannot open the file for reading");
+  if (!in) throw InputError(path.string(), 0, "", "", "cannot open the file for reading");
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_toml_text(text.str(), name);
+  return text.str();
+}
+
+toml::table parse_toml_file(const std::filesystem::path& path) {
+  return parse_toml_text(read_case_text(path), path.string());
 }
 
 toml::table parse_toml_text(std::string_view text, const std::string& source_name) {

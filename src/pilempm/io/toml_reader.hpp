@@ -43,6 +43,8 @@ struct NumberRange {
   static constexpr double kInf = std::numeric_limits<double>::infinity();
 };
 
+/// The whole text of a case file; an unreadable file is an InputError naming it.
+std::string read_case_text(const std::filesystem::path& path);
 /// Parses a TOML file; a syntax error or an unreadable file becomes an InputError with the line.
 toml::table parse_toml_file(const std::filesystem::path& path);
 /// Parses TOML text; `source_name` is what messages call the file.

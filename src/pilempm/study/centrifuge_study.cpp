@@ -5,12 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/element_output.hpp"
+#include "pilempm/io/toml_reader.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 #include "pilempm/study/csv_table.hpp"
 #include "pilempm/study/figures.hpp"
@@ -22,14 +21,6 @@ namespace {
 
 std::string stem(const std::string& file) {
   return std::filesystem::path(file).stem().string();
-}
-
-std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "", "", "cannot open the case file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
 }
 
 const std::vector<std::string> kColours{"C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7"};
@@ -227,7 +218,7 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
   std::vector<std::pair<CentrifugeScenario, std::string>> scenarios;
   for (const std::string& file : files) {
     const std::filesystem::path path = options.cases_dir / file;
-    std::string text = read_text(path);
+    std::string text = read_case_text(path);
     scenarios.emplace_back(read_centrifuge_case_text(text, path.string()), std::move(text));
   }
   prepare_output_directory(out_dir);
