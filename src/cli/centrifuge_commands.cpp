@@ -59,8 +59,11 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
              shown(100.0 * r.initial_stress_error, "{:.2f}"),
              shown(100.0 * r.equilibrium_error, "{:.2f}"),
              shown(100.0 * r.max_kinetic_to_work, "{:.3f}"));
-  fmt::print("particles inside the pile at phase ends: {}; smallest particle radius {} mm\n",
-             r.particles_in_pile, shown(r.min_radius_mm, "{:.3f}"));
+  fmt::print(
+      "particles passed into the pile: {} (deepest centre {} cells inside its surface); smallest "
+      "particle radius {} mm\n",
+      r.particles_in_pile, shown(r.max_penetration_cells, "{:.2f}"),
+      shown(r.min_radius_mm, "{:.3f}"));
   if (!r.plot_problem.empty())
     fmt::print(stderr, "warning: the figures were not drawn: {}\n", r.plot_problem);
   fmt::print("done: {} particles, {} steps in {:.1f} s; summary in {}/summary.md\n", r.particles,

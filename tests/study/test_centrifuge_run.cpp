@@ -102,7 +102,9 @@ TEST_F(CentrifugeRunTest, HeadForceIsTipPlusShaft) {
 }
 
 TEST_F(CentrifugeRunTest, NoSandEntersThePileOrCrossesTheAxis) {
+  // Centres may lie a fraction of a cell inside (the contact holds the nodes); none passes.
   EXPECT_EQ(summary_->particles_in_pile, 0u);
+  EXPECT_LT(summary_->max_penetration_cells, 0.75);
   EXPECT_GE(summary_->min_radius_mm, 0.0);
   EXPECT_GT(summary_->particles, 100u);
 }

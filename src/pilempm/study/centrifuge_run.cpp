@@ -217,9 +217,11 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
   md += fmt::format("| max kinetic energy / pile work, installation | {} % |\n",
                     value(100.0 * r.max_kinetic_to_work, "{:.3f}"));
   md += fmt::format(
-      "| particles inside the pile (deeper than a quarter cell), at phase ends | "
-      "{} |\n| smallest particle radius | {} mm |\n",
-      r.particles_in_pile, value(r.min_radius_mm, "{:.3f}"));
+      "| particles passed into the pile (deeper than a cell), at phase ends | {} |\n"
+      "| deepest particle centre inside the pile surface | {} cells |\n"
+      "| smallest particle radius | {} mm |\n",
+      r.particles_in_pile, value(r.max_penetration_cells, "{:.2f}"),
+      value(r.min_radius_mm, "{:.3f}"));
   md += fmt::format("| particles; steps; wall time | {}; {}; {:.1f} s |\n", r.particles, r.steps,
                     r.wall_seconds);
   md +=
@@ -388,6 +390,7 @@ std::vector<std::pair<std::string, double>> summary_numbers(const CentrifugeSumm
           {"equilibrium_error", r.equilibrium_error},
           {"max_kinetic_to_work", r.max_kinetic_to_work},
           {"particles_in_pile", static_cast<double>(r.particles_in_pile)},
+          {"max_penetration_cells", r.max_penetration_cells},
           {"min_radius_mm", r.min_radius_mm}};
 }
 
@@ -435,9 +438,11 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
     // No particle passes through the pile, none crosses the axis.
     std::size_t inside = 0;
     double min_radius = std::numeric_limits<double>::infinity();
-    const double depth = 0.25 * D / s.cells_per_D;
+    const double cell = D / s.cells_per_D;
     for (const mpm::Vec2& x : solver.particles().position) {
-      if (solver.rigid_body(0).signed_distance(x) < -depth) ++inside;
+      const double distance = solver.rigid_body(0).signed_distance(x);
+      if (distance < -cell) ++inside;
+      summary.max_penetration_cells = std::max(summary.max_penetration_cells, -distance / cell);
       min_radius = std::min(min_radius, x.x());
     }
     summary.particles_in_pile = std::max(summary.particles_in_pile, inside);

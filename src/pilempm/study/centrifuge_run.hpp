@@ -44,9 +44,12 @@ struct CentrifugeSummary {
   /// max kinetic energy (with the scaled mass) / pile work during installation after the first
   /// D of travel.
   double max_kinetic_to_work = 0.0;
-  /// The most particles found inside the pile (deeper than a quarter cell) at a phase end, and
-  /// the smallest radius of a particle then [mm] (the axis is r = 0).
+  /// At the phase ends: the most particles found deeper than one cell inside the pile (passed
+  /// through its surface), the deepest a particle's centre lay inside it [cells of the fine zone]
+  /// (the contact holds the grid nodes, so centres may lie a fraction of a cell inside), and the
+  /// smallest radius of a particle [mm] (the axis is r = 0).
   std::size_t particles_in_pile = 0;
+  double max_penetration_cells = 0.0;
   double min_radius_mm = 0.0;
   std::vector<std::string> field_files;
   std::vector<std::string> figures;
