@@ -75,6 +75,7 @@ struct CentrifugeStudyFlags {
   std::string cases = "examples/centrifuge";
   std::vector<std::string> groups;
   bool resume = false;
+  bool report_only = false;
   bool no_plots = false;
   bool quiet = false;
   std::string python;
@@ -85,6 +86,7 @@ void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
   options.cases_dir = flags.cases;
   options.groups = flags.groups;
   options.resume = flags.resume;
+  options.report_only = flags.report_only;
   options.plots = !flags.no_plots;
   options.python = flags.python;
   fmt::print(
@@ -145,6 +147,9 @@ void register_study_commands(CLI::App& app) {
       ->type_name("GROUP,...");
   centrifuge->add_flag("--resume", centrifuge_flags->resume,
                        "keep the runs of an earlier call whose summary.csv exists");
+  centrifuge->add_flag("--report-only", centrifuge_flags->report_only,
+                       "run nothing: write README.md and the figures of the runs that exist "
+                       "(a group is drawn when all its runs exist)");
   centrifuge->add_flag("--no-plots", centrifuge_flags->no_plots, "draw no PNG files");
   centrifuge->add_flag("--quiet", centrifuge_flags->quiet, "no progress lines on stderr");
   centrifuge

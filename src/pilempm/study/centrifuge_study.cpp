@@ -225,6 +225,7 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
 
   for (std::size_t k = 0; k < files.size(); ++k) {
     const std::filesystem::path dir = out_dir / stem(files[k]);
+    if (options.report_only) continue;
     if (options.resume && std::filesystem::exists(dir / "summary.csv")) {
       if (progress != nullptr)
         *progress << fmt::format("study: {} done before, kept ({}/{})\n", files[k], k + 1,
@@ -253,14 +254,26 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
       "of the full pile; the head force at the end of installation is the mean "
       "over the last cell of travel.\n";
   for (const CentrifugeStudyGroup* g : groups) {
-    for (FigureSpec& f : group_figures(*g, options.cases_dir)) figures.push_back(std::move(f));
+    // A group is compared when all its runs exist (with report_only some may not).
+    const bool complete =
+        std::all_of(g->cases.begin(), g->cases.end(), [&](const CentrifugeStudyCase& c) {
+          return std::filesystem::exists(out_dir / stem(c.file) / "summary.csv");
+        });
+    if (complete)
+      for (FigureSpec& f : group_figures(*g, options.cases_dir)) figures.push_back(std::move(f));
     readme += fmt::format("\n## {}\n\n", g->title);
+    if (!complete) readme += "Not all runs of this group exist yet: no figure.\n\n";
     readme +=
         "| run | case file | head force end of installation [N] | peak tip stress [MPa] | "
         "SLT capacity at 0.1 D [N] | equilibrium error [%] | kinetic / work [%] | wall time "
         "[s] |\n|---|---|---|---|---|---|---|---|\n";
     for (const CentrifugeStudyCase& c : g->cases) {
-      const NumericTable t = read_numeric_csv(out_dir / stem(c.file) / "summary.csv");
+      const std::filesystem::path file = out_dir / stem(c.file) / "summary.csv";
+      if (!std::filesystem::exists(file)) {
+        readme += fmt::format("| {} | `{}` | not run | | | | | |\n", c.label, c.file);
+        continue;
+      }
+      const NumericTable t = read_numeric_csv(file);
       readme += fmt::format(
           "| {} | `{}` | {} | {} | {} | {} | {} | {} |\n", c.label, c.file,
           cell(t, "installation_head_force_N", "{:.1f}"), cell(t, "peak_tip_stress_MPa", "{:.2f}"),
@@ -274,7 +287,7 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
   for (const FigureSpec& f : figures) readme += fmt::format("`{}` ", f.file);
   readme += "(drawn by `/usr/bin/python3 plot_figures.py figures.json` in this folder).\n";
   write_file_atomically(out_dir / "README.md", readme);
-  if (options.plots) {
+  if (options.plots && !figures.empty()) {
     const PlotOutcome plots =
         draw_figures(out_dir / "plot_figures.py", out_dir / "figures.json", options.python);
     if (!plots.plotted && progress != nullptr)

@@ -28,6 +28,7 @@ struct CentrifugeStudyOptions {
   std::filesystem::path cases_dir = "examples/centrifuge";
   std::vector<std::string> groups;  ///< the groups to run; empty: all
   bool resume = false;              ///< keep the runs whose DIR/<case>/summary.csv exists
+  bool report_only = false;         ///< run nothing: the comparisons of the runs that exist
   bool plots = true;
   std::string python;
 };
