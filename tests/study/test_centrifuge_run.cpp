@@ -7,9 +7,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
+#include "pilempm/core/error.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
+#include "pilempm/study/centrifuge_study.hpp"
 #include "pilempm/study/csv_table.hpp"
 
 namespace pilempm {
@@ -138,6 +141,40 @@ TEST_F(CentrifugeRunTest, WritesItsFiles) {
   const NumericTable summary = read_numeric_csv(*dir_ / "summary.csv");
   EXPECT_NEAR(summary.column("installation_head_force_N").front(),
               summary_->installation_head_force, 1e-6 * summary_->installation_head_force);
+}
+
+TEST(CentrifugeStudy, EveryCaseFileOfTheStudyExistsAndReads) {
+  // The study reads every case before the first run; a report of nothing run lists them all.
+  const fs::path dir =
+      fs::temp_directory_path() / ("pilempm-centrifuge-study-" + std::to_string(::getpid()));
+  CentrifugeStudyOptions options;
+  options.cases_dir = fs::path(PILEMPM_SOURCE_DIR) / "examples" / "centrifuge";
+  options.report_only = true;
+  options.plots = false;
+  run_centrifuge_study(options, dir, nullptr);
+  std::ifstream in(dir / "README.md");
+  const std::string readme((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::size_t cases = 0, listed = 0;
+  for (const CentrifugeStudyGroup& g : centrifuge_study_groups()) {
+    cases += g.cases.size();
+    for (const CentrifugeStudyCase& c : g.cases)
+      if (readme.find("`" + c.file + "` | not run") != std::string::npos) ++listed;
+  }
+  EXPECT_EQ(listed, cases);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+}
+
+TEST(CentrifugeStudy, UnknownGroupIsAnError) {
+  CentrifugeStudyOptions options;
+  options.groups = {"installations"};
+  try {
+    run_centrifuge_study(options, fs::temp_directory_path() / "pilempm-never-written", nullptr);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("installations"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(fs::temp_directory_path() / "pilempm-never-written"));
 }
 
 }  // namespace
