@@ -39,6 +39,19 @@ PanelSpec installation_panel(const std::string& title,
   return panel;
 }
 
+// Head force against the pile's travel in the load test, one curve per case.
+PanelSpec load_test_panel(const std::string& title, const std::vector<CentrifugeStudyCase>& cases) {
+  PanelSpec panel;
+  panel.title = title;
+  panel.x.label = "pile displacement in the load test [mm]";
+  panel.y.label = "head force [N]";
+  for (std::size_t k = 0; k < cases.size(); ++k)
+    panel.series.push_back(curve(stem(cases[k].file) + "/pile.csv", {{"phase", "load-test"}},
+                                 "phase_displacement_mm", "head_force_N", cases[k].label,
+                                 SeriesStyle{kColours[k % kColours.size()], "-", "", 1.5, 0}));
+  return panel;
+}
+
 std::vector<CentrifugeStudyCase> cases_of(const CentrifugeStudyGroup& group,
                                           std::initializer_list<int> indices) {
   std::vector<CentrifugeStudyCase> cases;
@@ -62,15 +75,7 @@ std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
     figures.push_back(f);
   } else if (group.name == "slt") {
     f.file = "load_tests.png";
-    PanelSpec panel;
-    panel.x.label = "pile displacement in the load test [mm]";
-    panel.y.label = "head force [N]";
-    for (std::size_t k = 0; k < group.cases.size(); ++k)
-      panel.series.push_back(curve(stem(group.cases[k].file) + "/pile.csv",
-                                   {{"phase", "load-test"}}, "phase_displacement_mm",
-                                   "head_force_N", group.cases[k].label,
-                                   SeriesStyle{kColours[k], "-", "", 1.5, 0}));
-    f.panels.push_back(panel);
+    f.panels.push_back(load_test_panel("", group.cases));
     figures.push_back(f);
   } else if (group.name == "igs") {
     f.file = "igs_void_ratio.png";
@@ -124,15 +129,7 @@ std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
     f.width_in = 12.0;
     f.height_in = 4.8;
     f.panels.push_back(installation_panel("installation", group.cases));
-    PanelSpec slt;
-    slt.title = "static load test";
-    slt.x.label = "pile displacement in the load test [mm]";
-    slt.y.label = "head force [N]";
-    for (std::size_t k = 0; k < group.cases.size(); ++k)
-      slt.series.push_back(curve(stem(group.cases[k].file) + "/pile.csv", {{"phase", "load-test"}},
-                                 "phase_displacement_mm", "head_force_N", group.cases[k].label,
-                                 SeriesStyle{kColours[k], "-", "", 1.5, 0}));
-    f.panels.push_back(slt);
+    f.panels.push_back(load_test_panel("static load test", group.cases));
     figures.push_back(f);
   }
   return figures;
