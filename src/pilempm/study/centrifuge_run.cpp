@@ -92,9 +92,11 @@ class PileRecorder {
     row.tip = f.parts.size() > 0 ? factor_ * f.parts[0].y() : 0.0;
     row.shaft = f.parts.size() > 1 ? factor_ * f.parts[1].y() : 0.0;
     row.base_reaction = elapsed_ > 0.0 ? factor_ * reaction_impulse_.y() / elapsed_ : 0.0;
-    double mass = 0.0;
-    for (double m : solver.particles().mass) mass += m;
-    row.soil_weight = factor_ * mass * s_.gravity * s_.g_level;
+    if (soil_weight_ == 0.0) {  // the particles and their masses do not change
+      for (double m : solver.particles().mass) soil_weight_ += m;
+      soil_weight_ *= factor_ * s_.gravity * s_.g_level;
+    }
+    row.soil_weight = soil_weight_;
     row.kinetic = factor_ * solver.energies().kinetic;
     row.pile_work = factor_ * solver.energies().contact_work;
     rows_.push_back(row);
@@ -111,6 +113,7 @@ class PileRecorder {
   double elapsed_ = 0.0;
   double last_row_y_ = 0.0;
   double phase_start_y_ = 0.0;
+  double soil_weight_ = 0.0;  // [N]
   std::vector<PileRow> rows_;
 };
 
@@ -244,8 +247,6 @@ FigureSpec field_figure(const CentrifugeScenario& s, const std::string& phase) {
 
 std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
   std::vector<FigureSpec> figures;
-  SeriesStyle thin;
-  thin.linewidth = 1.2;
   if (s.installation_D > 0.0) {
     FigureSpec f;
     f.file = "installation.png";
@@ -258,22 +259,15 @@ std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
     force.title = "head force during installation";
     force.x.label = "pile displacement [mm]";
     force.y.label = "force [N]";
-    for (auto [column, label] :
-         {std::pair{"head_force_N", "head"}, {"tip_force_N", "tip"}, {"shaft_force_N", "shaft"}}) {
-      SeriesSpec series = curve("pile.csv", {}, "pile_displacement_mm", column, label, thin);
+    // One colour per force; the split installation phases share it, labelled once.
+    for (auto [column, label, colour] : {std::tuple{"head_force_N", "head", "C0"},
+                                         {"tip_force_N", "tip", "C1"},
+                                         {"shaft_force_N", "shaft", "C2"}})
       for (const std::string& phase : scenario_phase_names(s))
-        if (is_installation(phase)) {
-          series.where = {{"phase", phase}};
-          series.label = phase == "installation" || scenario_phase_names(s).size() <= 2
-                             ? label
-                             : std::string();
-          force.series.push_back(series);
-        }
-    }
-    // One colour per force: the split installation phases share it.
-    const std::vector<std::string> colours{"C0", "C1", "C2"};
-    for (std::size_t k = 0; k < force.series.size(); ++k)
-      force.series[k].style.color = colours[std::min<std::size_t>(2, k * 3 / force.series.size())];
+        if (is_installation(phase))
+          force.series.push_back(curve("pile.csv", {{"phase", phase}}, "pile_displacement_mm",
+                                       column, phase == "installation" ? label : "",
+                                       SeriesStyle{colour, "-", "", 1.2, 0}));
     f.panels.push_back(force);
     PanelSpec tip;
     tip.title = "tip stress against tip depth";

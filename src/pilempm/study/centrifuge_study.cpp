@@ -25,31 +25,30 @@ std::string stem(const std::string& file) {
 
 const std::vector<std::string> kColours{"C0", "C1", "C2", "C3", "C4", "C5", "C6", "C7"};
 
-// Head force against pile displacement during installation, one curve per case.
-PanelSpec installation_panel(const std::string& title,
-                             const std::vector<CentrifugeStudyCase>& cases) {
+// Head force against `x` (a column of pile.csv) in `phase`, one curve per case.
+PanelSpec head_force_panel(const std::string& title, const std::vector<CentrifugeStudyCase>& cases,
+                           const std::string& phase, const std::string& x,
+                           const std::string& x_label) {
   PanelSpec panel;
   panel.title = title;
-  panel.x.label = "pile displacement [mm]";
+  panel.x.label = x_label;
   panel.y.label = "head force [N]";
   for (std::size_t k = 0; k < cases.size(); ++k)
-    panel.series.push_back(curve(stem(cases[k].file) + "/pile.csv", {{"phase", "installation"}},
-                                 "pile_displacement_mm", "head_force_N", cases[k].label,
-                                 SeriesStyle{kColours[k % kColours.size()], "-", "", 1.3, 0}));
+    panel.series.push_back(curve(stem(cases[k].file) + "/pile.csv", {{"phase", phase}}, x,
+                                 "head_force_N", cases[k].label,
+                                 SeriesStyle{kColours[k % kColours.size()], "-", "", 1.4, 0}));
   return panel;
 }
 
-// Head force against the pile's travel in the load test, one curve per case.
+PanelSpec installation_panel(const std::string& title,
+                             const std::vector<CentrifugeStudyCase>& cases) {
+  return head_force_panel(title, cases, "installation", "pile_displacement_mm",
+                          "pile displacement [mm]");
+}
+
 PanelSpec load_test_panel(const std::string& title, const std::vector<CentrifugeStudyCase>& cases) {
-  PanelSpec panel;
-  panel.title = title;
-  panel.x.label = "pile displacement in the load test [mm]";
-  panel.y.label = "head force [N]";
-  for (std::size_t k = 0; k < cases.size(); ++k)
-    panel.series.push_back(curve(stem(cases[k].file) + "/pile.csv", {{"phase", "load-test"}},
-                                 "phase_displacement_mm", "head_force_N", cases[k].label,
-                                 SeriesStyle{kColours[k % kColours.size()], "-", "", 1.5, 0}));
-  return panel;
+  return head_force_panel(title, cases, "load-test", "phase_displacement_mm",
+                          "pile displacement in the load test [mm]");
 }
 
 std::vector<CentrifugeStudyCase> cases_of(const CentrifugeStudyGroup& group,
