@@ -8,6 +8,7 @@
 #include <iostream>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include "pilempm/constitutive/material_state.hpp"
@@ -92,11 +93,12 @@ class PileRecorder {
     row.tip = f.parts.size() > 0 ? factor_ * f.parts[0].y() : 0.0;
     row.shaft = f.parts.size() > 1 ? factor_ * f.parts[1].y() : 0.0;
     row.base_reaction = elapsed_ > 0.0 ? factor_ * reaction_impulse_.y() / elapsed_ : 0.0;
-    if (soil_weight_ == 0.0) {  // the particles and their masses do not change
-      for (double m : solver.particles().mass) soil_weight_ += m;
-      soil_weight_ *= factor_ * s_.gravity * s_.g_level;
+    if (!soil_weight_) {  // the particles and their masses do not change
+      double mass = 0.0;
+      for (double m : solver.particles().mass) mass += m;
+      soil_weight_ = factor_ * mass * s_.gravity * s_.g_level;
     }
-    row.soil_weight = soil_weight_;
+    row.soil_weight = *soil_weight_;
     row.kinetic = factor_ * solver.energies().kinetic;
     row.pile_work = factor_ * solver.energies().contact_work;
     rows_.push_back(row);
@@ -113,7 +115,7 @@ class PileRecorder {
   double elapsed_ = 0.0;
   double last_row_y_ = 0.0;
   double phase_start_y_ = 0.0;
-  double soil_weight_ = 0.0;  // [N]
+  std::optional<double> soil_weight_;  // [N], summed at the first row
   std::vector<PileRow> rows_;
 };
 

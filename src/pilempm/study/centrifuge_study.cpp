@@ -219,9 +219,9 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
   }
   prepare_output_directory(out_dir);
 
-  for (std::size_t k = 0; k < files.size(); ++k) {
+  const std::size_t runs = options.report_only ? 0 : files.size();  // report only: run nothing
+  for (std::size_t k = 0; k < runs; ++k) {
     const std::filesystem::path dir = out_dir / stem(files[k]);
-    if (options.report_only) continue;
     if (options.resume && std::filesystem::exists(dir / "summary.csv")) {
       if (progress != nullptr)
         *progress << fmt::format("study: {} done before, kept ({}/{})\n", files[k], k + 1,
