@@ -116,9 +116,16 @@ depth_D = 5.0
 snapshot_depths_D = [12.0]
 [relaxation]
 enabled = false
+[solver]
+flip_fraction = 0.95
+xpic_order = 4
 )";
   const CentrifugeScenario s = read_centrifuge_case_text(text, "centrifuge.toml");
   EXPECT_NEAR(s.pile_diameter, 0.012, 1e-15);
+  // The solver keys reach the generated MPM case.
+  const MpmCase c = centrifuge_to_mpm_case(s, "mpm_case.toml");
+  EXPECT_DOUBLE_EQ(c.solver.flip_fraction, 0.95);
+  EXPECT_EQ(c.solver.xpic_order, 4);
   EXPECT_DOUBLE_EQ(s.g_level, 50.0);
   EXPECT_DOUBLE_EQ(scenario_interface_friction_deg(s), 18.0);
   EXPECT_DOUBLE_EQ(s.installation_D, 5.0);

@@ -51,6 +51,7 @@ gravity_multiplier = 10.0
 local_damping = 0.2
 courant_number = 0.4
 threads = 1
+xpic_order = 3
 [[material]]
 name = "sand"
 model = "mohr-coulomb"
@@ -116,6 +117,7 @@ TEST(MpmCase, ValidCaseReadsIntoSiValues) {
   EXPECT_EQ(c.solver.scheme, mpm::UpdateScheme::usl);
   EXPECT_EQ(c.solver.shape_function, mpm::ShapeFunction::linear);
   EXPECT_DOUBLE_EQ(c.solver.flip_fraction, 0.95);
+  EXPECT_EQ(c.solver.xpic_order, 3);
   EXPECT_DOUBLE_EQ(c.solver.courant_number, 0.4);
 
   ASSERT_EQ(c.regions.size(), 1u);
@@ -166,7 +168,7 @@ TEST(MpmCase, UnknownKeyIsAnErrorWithFileLineAndKey) {
   EXPECT_NE(message.find("courant_number"), std::string::npos) << message;  // the guess
 
   const InputError region = error_of(with("density_kg_per_m3", "density_kg_m3"));
-  EXPECT_EQ(region.line(), 44);
+  EXPECT_EQ(region.line(), 45);
   EXPECT_NE(std::string(region.what()).find("region"), std::string::npos) << region.what();
 }
 

@@ -147,10 +147,12 @@ TEST_F(CentrifugeRunTest, WritesItsFiles) {
 // times the critical one: the same physics, twice the steps. A PIC share of 1 % per step (the
 // default FLIP fraction 0.99) is an artificial viscosity that grows with the number of steps per
 // unit of time and raises the tip force (measured: 231.2 and 263.2 N, +13.9 %); pure FLIP does
-// not depend on the step (166.3 and 170.2 N, +2.3 %). This pins down the mechanism that any
-// other noise control must avoid (docs/verification.md §8).
-double head_force_at_courant(double flip_fraction, double courant_number) {
+// not depend on the step (166.3 and 170.2 N, +2.3 %). With XPIC(8) as the PIC share's target the
+// blend damps the resolved motion far less: 200.3 and 205.8 N (+2.7 %). This pins down the
+// mechanism that any other noise control must avoid (docs/verification.md §8).
+double head_force_at_courant(double flip_fraction, double courant_number, int xpic_order = 1) {
   CentrifugeScenario s = tiny_scenario();
+  s.xpic_order = xpic_order;
   s.relaxation = false;
   s.load_test_D = 0.0;
   s.flip_fraction = flip_fraction;
@@ -165,7 +167,7 @@ double head_force_at_courant(double flip_fraction, double courant_number) {
   return force;
 }
 
-TEST(CentrifugeTimeStep, PicShareMakesTheHeadForceDependOnTheTimeStepPureFlipDoesNot) {
+TEST(CentrifugeTimeStep, PicShareMakesTheHeadForceDependOnTheTimeStepPureFlipAndXpicDoNot) {
   const double coarse = head_force_at_courant(1.0, 0.5), fine = head_force_at_courant(1.0, 0.25);
   EXPECT_LT(std::abs(fine / coarse - 1.0), 0.05) << coarse << " N, " << fine << " N";
   const double coarse_blend = head_force_at_courant(0.99, 0.5);
@@ -173,6 +175,13 @@ TEST(CentrifugeTimeStep, PicShareMakesTheHeadForceDependOnTheTimeStepPureFlipDoe
   EXPECT_GT(fine_blend / coarse_blend - 1.0, 0.08) << coarse_blend << " N, " << fine_blend << " N";
   // The viscosity raises the force: pure FLIP lies well below the blend.
   EXPECT_LT(coarse, 0.85 * coarse_blend) << coarse << " N, " << coarse_blend << " N";
+  // XPIC(8): the step dependence of pure FLIP, a force between pure FLIP and the PIC blend.
+  const double coarse_xpic = head_force_at_courant(0.99, 0.5, 8);
+  const double fine_xpic = head_force_at_courant(0.99, 0.25, 8);
+  EXPECT_LT(std::abs(fine_xpic / coarse_xpic - 1.0), 0.05)
+      << coarse_xpic << " N, " << fine_xpic << " N";
+  EXPECT_LT(coarse_xpic, 0.95 * coarse_blend) << coarse_xpic << " N, " << coarse_blend << " N";
+  EXPECT_GT(coarse_xpic, coarse) << coarse_xpic << " N, " << coarse << " N";
 }
 
 TEST(CentrifugeStudy, EveryCaseFileOfTheStudyExistsAndReads) {

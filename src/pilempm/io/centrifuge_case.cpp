@@ -146,6 +146,7 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
     s.courant_number =
         t->number_or("courant_number", s.courant_number, NumberRange::left_open(0.0, 1.0));
     s.flip_fraction = t->number_or("flip_fraction", s.flip_fraction, NumberRange::closed(0.0, 1.0));
+    s.xpic_order = t->integer_or("xpic_order", s.xpic_order, 1, 8);
     s.threads = t->integer_or("threads", s.threads, 0, 1024);
     s.volumetric_smoothing = t->boolean_or("volumetric_smoothing", s.volumetric_smoothing);
     s.damping = t->number_or("local_damping", s.damping, NumberRange{0.0, 1.0, false, true});

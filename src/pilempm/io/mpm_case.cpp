@@ -75,6 +75,7 @@ mpm::SolverSettings read_solver(std::optional<TableReader> solver) {
                        : *shape == "ugimp" ? mpm::ShapeFunction::ugimp
                                            : mpm::ShapeFunction::cpgimp;
   s.flip_fraction = solver->number_or("flip_fraction", s.flip_fraction, NumberRange::closed(0, 1));
+  s.xpic_order = solver->integer_or("xpic_order", s.xpic_order, 1, 8);
   s.gravity = solver->number_or("gravity_m_per_s2", s.gravity, NumberRange::non_negative());
   s.gravity_multiplier =
       solver->number_or("gravity_multiplier", s.gravity_multiplier, NumberRange::non_negative());

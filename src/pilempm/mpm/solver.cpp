@@ -72,6 +72,8 @@ inline double local_damping_force(double alpha, double force, double velocity) {
 void SolverSettings::validate() const {
   if (!(flip_fraction >= 0.0 && flip_fraction <= 1.0))
     throw InvalidValue("flip_fraction", format_value(flip_fraction), "in [0, 1]");
+  if (xpic_order < 1 || xpic_order > 8)
+    throw InvalidValue("xpic_order", std::to_string(xpic_order), "in [1, 8] (1: PIC)");
   if (!(gravity >= 0.0 && std::isfinite(gravity)))
     throw InvalidValue("gravity_m_per_s2", format_value(gravity), ">= 0 (acts along -y)");
   if (!(gravity_multiplier >= 0.0 && std::isfinite(gravity_multiplier)))
@@ -277,8 +279,9 @@ double Solver::step() {
 void Solver::advance(double dt) {
   particles_to_grid(dt);    // weights at x^n; nodal mass, momentum, forces; the grid update
   apply_contact(dt, true);  // rigid bodies: Coulomb frictional contact, forces on the bodies
-  grid_to_particles(dt);    // FLIP/PIC velocities and positions (MUSL: new momentum to the grid)
-  update_stress(dt);        // velocity gradient, Jaumann rotation, model update, F, volume
+  if (settings_.xpic_order > 1 && settings_.flip_fraction < 1.0) compute_xpic_shift();
+  grid_to_particles(dt);  // FLIP/PIC velocities and positions (MUSL: new momentum to the grid)
+  update_stress(dt);      // velocity gradient, Jaumann rotation, model update, F, volume
   for (RigidBody& body : rigid_bodies_) body.translate(dt * body.velocity());
   time_ += dt;
   ++steps_;
@@ -600,6 +603,70 @@ void Solver::apply_contact(double dt, bool forces) {
   }
 }
 
+// XPIC(m) (Hammerquist & Nairn 2017, "A new method for material point method particle updates
+// that reduces noise and enhances stability"). With the particle-to-grid map S+ (mass-weighted)
+// and the grid-to-particle map S, PIC sets V^n+1 = S v^L = S S+ V^n + S Δv. XPIC(m) replaces the
+// smoothing S S+ by 1 - (1 - S S+)^m, which on the grid is S v* with
+//   v* = Σ_k=1..m (-1)^(k+1) C(m, k) (S+ S)^(k-1) v^n,  v^n = S+ V^n (the grid velocity before
+// the update). m = 1 gives PIC; as m grows, only the null space of S+ (the noise) is removed.
+// Each power of S+ S is one gather to the particles and one mass-weighted scatter back, with the
+// boundary conditions of the grid applied after each. The coefficients sum to 1, so a rigid
+// translation is kept. The nodal momentum is used as the scatter's buffer and restored after.
+void Solver::compute_xpic_shift() {
+  NodalFields& nodes = grid_.nodes();
+  const auto node_count = static_cast<std::size_t>(grid_.node_count());
+  const double* free_x = grid_.free_x().data();
+  const double* free_y = grid_.free_y().data();
+  const int nx = grid_.nx();
+  const int order = settings_.xpic_order;
+  const double mass_scaling = settings_.mass_scaling;
+  xpic_start_.resize(node_count);
+  xpic_power_.resize(node_count);
+  xpic_shift_.resize(node_count);
+  Vec2* start = xpic_start_.data();
+  Vec2* power = xpic_power_.data();
+  Vec2* sum = xpic_shift_.data();  // Σ c_k (S+ S)^(k-1) v^n, turned into the shift at the end
+  const auto nodes_long = static_cast<long>(node_count);
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long n = 0; n < nodes_long; ++n) {
+    const double mass = nodes.mass[n];
+    const Vec2 velocity =
+        mass > 0.0 ? Vec2(nodes.momentum_x[n] / mass, nodes.momentum_y[n] / mass) : Vec2::Zero();
+    start[n] = velocity;
+    power[n] = Vec2(free_x[n] * velocity.x(), free_y[n] * velocity.y());
+    sum[n] = order * power[n];  // c_1 = m
+  }
+  double coefficient = order;
+  for (int k = 2; k <= order; ++k) {
+    // c_k = (-1)^(k+1) C(m, k) = -c_(k-1) (m - k + 1) / k
+    coefficient = -coefficient * (order - k + 1) / k;
+    scatter_to_grid(
+        false,
+        [&](long i, NodeSums* to, int) {
+          Vec2 velocity = Vec2::Zero();
+          for_each_node(stencils_[i], nx,
+                        [&](int n, double s, double, double) { velocity += s * power[n]; });
+          const Vec2 momentum = mass_scaling * particles_.mass[i] * velocity;
+          for_each_node(stencils_[i], nx,
+                        [&](int n, double s, double, double) { to[n].momentum += s * momentum; });
+        },
+        [&](long n, int) {
+          const double mass = nodes.mass[n];
+          const double inverse_mass = mass > 0.0 ? 1.0 / mass : 0.0;
+          power[n] = Vec2(free_x[n] * nodes.momentum_x[n] * inverse_mass,
+                          free_y[n] * nodes.momentum_y[n] * inverse_mass);
+          sum[n] += coefficient * power[n];
+        });
+  }
+#pragma omp parallel for num_threads(threads_) schedule(static)
+  for (long n = 0; n < nodes_long; ++n) {
+    const double mass = nodes.mass[n];
+    nodes.momentum_x[n] = mass * start[n].x();
+    nodes.momentum_y[n] = mass * start[n].y();
+    sum[n] = Vec2(free_x[n] * (sum[n].x() - start[n].x()), free_y[n] * (sum[n].y() - start[n].y()));
+  }
+}
+
 void Solver::grid_to_particles(double dt) {
   Particles& p = particles_;
   const NodeMotion* motion = node_motion_.data();
@@ -611,6 +678,7 @@ void Solver::grid_to_particles(double dt) {
   const Vec2 gravity(0.0, -settings_.gravity_multiplier * settings_.gravity);
   std::vector<ThreadAccount>& accounts = reset_thread_accounts();
   // Updates particle i from the grid and returns its new momentum.
+  const Vec2* xpic_shift = settings_.xpic_order > 1 && flip < 1.0 ? xpic_shift_.data() : nullptr;
   auto move_particle = [&](long i, ThreadAccount& account) -> Vec2 {
     Vec2 grid_velocity = Vec2::Zero(), velocity_change = Vec2::Zero();
     for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
@@ -618,8 +686,13 @@ void Solver::grid_to_particles(double dt) {
       grid_velocity += s * node.velocity;
       velocity_change += s * node.change;
     });
+    // The PIC share's target: the grid velocity, with XPIC(m) shifted by S (v* - v^n).
+    Vec2 pic_velocity = grid_velocity;
+    if (xpic_shift)
+      for_each_node(stencils_[i], nx,
+                    [&](int n, double s, double, double) { pic_velocity += s * xpic_shift[n]; });
     // FLIP/PIC blend of the particle velocity; the particle moves with the grid velocity.
-    p.velocity[i] = flip * (p.velocity[i] + velocity_change) + (1.0 - flip) * grid_velocity;
+    p.velocity[i] = flip * (p.velocity[i] + velocity_change) + (1.0 - flip) * pic_velocity;
     const Vec2 displacement = dt * grid_velocity;
     account.sum[0] += (p.mass[i] * gravity + p.external_force[i]).dot(displacement);
     p.position[i] += displacement;

@@ -61,6 +61,12 @@ struct SolverSettings {
   /// keeps particle velocity modes the grid cannot see, which then never decay (the kinetic energy
   /// of a damped quasi-static run stalls); a little PIC removes them.
   double flip_fraction = 0.99;
+  /// Order m of the velocity the PIC share of the blend moves toward, XPIC(m) (Hammerquist &
+  /// Nairn 2017): 1 = the grid velocity (classic PIC). m > 1 removes the particle velocity modes
+  /// the grid cannot see as PIC does, but damps the modes it can see far less: a mode that one
+  /// grid round trip keeps by the factor λ keeps 1 - (1 - λ)^m of itself instead of λ. Each order
+  /// above 1 costs one more grid round trip per step. In [1, 8].
+  int xpic_order = 1;
   double gravity = 9.81;            ///< g [m/s^2], acting along -y
   double gravity_multiplier = 1.0;  ///< N: the body force is N g (centrifuge), >= 0
   double local_damping = 0.0;       ///< α of the local non-viscous damping, in [0, 1)
@@ -202,6 +208,8 @@ class Solver {
   // Rigid-body contact on the nodal velocities; with `forces`, also the velocity change for FLIP
   // and the contact forces of the step.
   void apply_contact(double dt, bool forces);
+  // XPIC(m), m > 1: xpic_shift_ = v* - v^n at the nodes (zero on constrained components).
+  void compute_xpic_shift();
 
   // One node's sums in a thread's buffer, the x and y components side by side (SIMD pairs).
   struct NodeSums {
@@ -243,6 +251,10 @@ class Solver {
     Vec2 change = Vec2::Zero();
   };
   std::vector<NodeMotion> node_motion_;
+
+  // XPIC(m) scratch per node: v^n, the current power (S+ S)^k v^n, and the shift v* - v^n that
+  // the PIC share adds to the grid velocity (empty while the order is 1).
+  std::vector<Vec2> xpic_start_, xpic_power_, xpic_shift_;
 
   // Per-thread nodal sums, and the node range each one touched.
   struct ThreadGrid {

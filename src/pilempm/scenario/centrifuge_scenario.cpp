@@ -182,6 +182,7 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
   line(fmt::format("mass_scaling = {:.9g}", s.mass_scaling));
   line(fmt::format("courant_number = {:.9g}", s.courant_number));
   line(fmt::format("flip_fraction = {:.9g}", s.flip_fraction));
+  line(fmt::format("xpic_order = {}", s.xpic_order));
   line(fmt::format("threads = {}", s.threads));
   line(fmt::format("volumetric_smoothing = {}", s.volumetric_smoothing ? "true" : "false"));
   line(fmt::format("local_damping = {:.9g}", s.damping));

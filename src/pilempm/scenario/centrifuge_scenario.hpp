@@ -83,6 +83,7 @@ struct CentrifugeScenario {
   // makes the force fall with the jacking speed grow (docs/verification.md §8). 0.99 is the
   // setting with the smallest speed dependence measured so far.
   double flip_fraction = 0.99;
+  int xpic_order = 1;  ///< XPIC(m) order of the PIC share's target (1: classic PIC)
 
   // Derived quantities.
   double container_radius() const { return container_radius_D * pile_diameter; }
