@@ -677,8 +677,8 @@ void Solver::grid_to_particles(double dt) {
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
   const Vec2 gravity(0.0, -settings_.gravity_multiplier * settings_.gravity);
   std::vector<ThreadAccount>& accounts = reset_thread_accounts();
-  // Updates particle i from the grid and returns its new momentum.
   const Vec2* xpic_shift = settings_.xpic_order > 1 && flip < 1.0 ? xpic_shift_.data() : nullptr;
+  // Updates particle i from the grid and returns its new momentum.
   auto move_particle = [&](long i, ThreadAccount& account) -> Vec2 {
     Vec2 grid_velocity = Vec2::Zero(), velocity_change = Vec2::Zero();
     for_each_node(stencils_[i], nx, [&](int n, double s, double, double) {
