@@ -279,7 +279,7 @@ double Solver::step() {
 void Solver::advance(double dt) {
   particles_to_grid(dt);    // weights at x^n; nodal mass, momentum, forces; the grid update
   apply_contact(dt, true);  // rigid bodies: Coulomb frictional contact, forces on the bodies
-  if (settings_.xpic_order > 1 && settings_.flip_fraction < 1.0) compute_xpic_shift();
+  if (xpic_active()) compute_xpic_shift();
   grid_to_particles(dt);  // FLIP/PIC velocities and positions (MUSL: new momentum to the grid)
   update_stress(dt);      // velocity gradient, Jaumann rotation, model update, F, volume
   for (RigidBody& body : rigid_bodies_) body.translate(dt * body.velocity());
@@ -677,7 +677,7 @@ void Solver::grid_to_particles(double dt) {
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
   const Vec2 gravity(0.0, -settings_.gravity_multiplier * settings_.gravity);
   std::vector<ThreadAccount>& accounts = reset_thread_accounts();
-  const Vec2* xpic_shift = settings_.xpic_order > 1 && flip < 1.0 ? xpic_shift_.data() : nullptr;
+  const Vec2* xpic_shift = xpic_active() ? xpic_shift_.data() : nullptr;
   // Updates particle i from the grid and returns its new momentum.
   auto move_particle = [&](long i, ThreadAccount& account) -> Vec2 {
     Vec2 grid_velocity = Vec2::Zero(), velocity_change = Vec2::Zero();

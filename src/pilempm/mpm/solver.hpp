@@ -210,6 +210,8 @@ class Solver {
   void apply_contact(double dt, bool forces);
   // XPIC(m), m > 1: xpic_shift_ = v* - v^n at the nodes (zero on constrained components).
   void compute_xpic_shift();
+  // Whether the PIC share moves toward XPIC(m) with m > 1 (else toward the grid velocity).
+  bool xpic_active() const { return settings_.xpic_order > 1 && settings_.flip_fraction < 1.0; }
 
   // One node's sums in a thread's buffer, the x and y components side by side (SIMD pairs).
   struct NodeSums {
