@@ -119,8 +119,8 @@ std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
     f.width_in = 13.0;
     f.height_in = 5.0;
     f.sharey = true;
-    f.panels = {installation_panel("mesh convergence (0.1 m/s)", cases_of(group, {0, 1, 2, 3})),
-                installation_panel("jacking speed (D/6)", cases_of(group, {2, 4, 5, 6}))};
+    f.panels = {installation_panel("mesh convergence (0.025 m/s)", cases_of(group, {0, 1, 2, 3})),
+                installation_panel("jacking speed (D/6)", cases_of(group, {4, 5, 2, 6}))};
     figures.push_back(f);
   } else {
     f.file = "stress_dependent_alpha.png";
@@ -151,8 +151,8 @@ const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
         {"check_mesh_d4.toml", "D/4"},
         {"check_mesh_d6.toml", "D/6"},
         {"check_mesh_d8.toml", "D/8"},
+        {"check_speed_0.1.toml", "D/6 at 0.1 m/s"},
         {"check_speed_0.05.toml", "D/6 at 0.05 m/s"},
-        {"check_speed_0.025.toml", "D/6 at 0.025 m/s"},
         {"check_speed_0.0125.toml", "D/6 at 0.0125 m/s"}}},
       {"installation",
        "installation 10 D to 20 D (IGS 3): head force",
