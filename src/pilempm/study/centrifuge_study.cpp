@@ -120,7 +120,8 @@ std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
     f.height_in = 5.0;
     f.sharey = true;
     f.panels = {installation_panel("mesh convergence (0.025 m/s)", cases_of(group, {0, 1, 2, 3})),
-                installation_panel("jacking speed (D/6)", cases_of(group, {4, 5, 2, 6}))};
+                installation_panel("jacking speed (D/6; the D/6 curve at 0.025 m/s)",
+                                   cases_of(group, {4, 5, 2, 6}))};
     figures.push_back(f);
   } else {
     f.file = "stress_dependent_alpha.png";
