@@ -50,9 +50,9 @@ struct CentrifugeScenario {
   // The phases.
   double wished_in_place_D = 10.0;  ///< tip depth below the surface when the pile is put in
   double installation_D = 10.0;     ///< jacked further; 0: no installation (MPM-1)
-  // 0.025 m/s with Courant 0.9: the slowest pair that passes the speed check at D/6 (0.025 and
-  // 0.0125 m/s within 1.3 %); the study's 0.1 m/s gives a force about 12 % too high
-  // (docs/verification.md §8).
+  // 0.025 m/s with Courant 0.9: at D/6 the speed check passes from 0.05 to 0.025 m/s (−1.6 %)
+  // and from 0.025 to 0.0125 m/s (−1.3 %), so 0.025 m/s is one halving on the safe side; the
+  // study's former 0.1 m/s gives a force about 12 % too high (docs/verification.md §8).
   PileMotion jacking{0.025, 0.002};
   bool relaxation = true;
   PileMotion relaxation_motion{0.01, 0.002};
