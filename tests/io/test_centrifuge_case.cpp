@@ -155,6 +155,9 @@ TEST(CentrifugeCase, OutOfRangeValueNamesTheKeyTheValueAndTheRange) {
                           {"test.g_level = 0.5", "[1, 1000]"});
   expect_centrifuge_error("[sand]\ne0 = 0.7\ne0_at = \"loose\"\n", "e0_at",
                           {"sand.e0_at = \"loose\"", "zero-pressure"});
+  expect_centrifuge_error(std::string(kMinimal) + "[mesh]\nparticles_per_cell_outside = 0\n",
+                          "particles_per_cell_outside",
+                          {"mesh.particles_per_cell_outside = 0", "[1, 8]"});
 }
 
 TEST(CentrifugeCase, ValidationErrorPointsAtTheLineOfTheKey) {
@@ -211,7 +214,8 @@ TEST(CentrifugeCase, MaterialTableOfTheFileIsTheSandAndIsCopiedIntoTheMpmCase) {
 
   const std::string text = centrifuge_mpm_case(s);
   const MpmCase c = read_mpm_case_text(text, "mpm_case.toml");
-  ASSERT_EQ(c.regions.size(), 1u);
+  ASSERT_EQ(c.regions.size(), 3u);  // the fine zone, beside it, below it: one set
+  for (const MpmRegion& r : c.regions) EXPECT_EQ(r.material.name, "steep-sand");
   const MpmRegion& sand = c.regions[0];
   EXPECT_EQ(sand.material.name, "steep-sand");
   EXPECT_EQ(sand.material.kind, ModelKind::hypoplastic);
@@ -222,8 +226,8 @@ TEST(CentrifugeCase, MaterialTableOfTheFileIsTheSandAndIsCopiedIntoTheMpmCase) {
   EXPECT_NEAR(sand.K0, 1.0 - std::sin(33.0 * kDeg), 1e-8);
   ASSERT_EQ(c.bodies.size(), 1u);
   EXPECT_NEAR(c.bodies[0].friction, std::tan(22.0 * kDeg), 1e-8);  // δ = 2/3 φ_c
-  ASSERT_EQ(c.models.size(), 1u);
-  EXPECT_NE(c.models[0], nullptr);
+  ASSERT_EQ(c.models.size(), 3u);                                  // one model a region
+  for (const auto& model : c.models) EXPECT_NE(model, nullptr);
 }
 
 TEST(CentrifugeCase, LoadTestMaterialAddsAMaterialChangeToTheLoadTest) {  // MPM-4
@@ -239,10 +243,12 @@ TEST(CentrifugeCase, LoadTestMaterialAddsAMaterialChangeToTheLoadTest) {  // MPM
   ASSERT_FALSE(c.phases.empty());
   const MpmPhase& load_test = c.phases.back();
   EXPECT_EQ(load_test.name, "load-test");
-  ASSERT_EQ(load_test.material_changes.size(), 1u);
-  EXPECT_EQ(load_test.material_changes[0].model, 0);
-  EXPECT_EQ(load_test.material_changes[0].material, "modified-medium-dense");
-  EXPECT_NE(load_test.material_changes[0].replacement, nullptr);
+  ASSERT_EQ(load_test.material_changes.size(), 3u);  // every region of the sand changes
+  for (std::size_t k = 0; k < 3; ++k) {
+    EXPECT_EQ(load_test.material_changes[k].model, static_cast<int>(k));
+    EXPECT_EQ(load_test.material_changes[k].material, "modified-medium-dense");
+    EXPECT_NE(load_test.material_changes[k].replacement, nullptr);
+  }
   for (std::size_t k = 0; k + 1 < c.phases.size(); ++k)
     EXPECT_TRUE(c.phases[k].material_changes.empty()) << c.phases[k].name;
   // The K0 and δ stay those of the installation set.
@@ -311,13 +317,18 @@ TEST(CentrifugeCase, QuickCaseIsAnAxisymmetricPileWishedInPlaceOnAGradedGrid) {
   EXPECT_NEAR(spacing_at(c.y_nodes, H + 0.5 * D), h, 1e-9);
   EXPECT_GT(spacing_at(c.x_nodes, 5.8 * D), 1.05 * h);  // graded outside the fine zone
 
-  // The sand fills the container to H with ρ_d = 2650 / (1 + e0) at N = 40.
-  ASSERT_EQ(c.regions.size(), 1u);
-  EXPECT_NEAR(c.regions[0].fill.density, 2650.0 / 1.68, 1e-8 * 1577.0);  // 9 digits
+  // The sand fills the container to H with ρ_d = 2650 / (1 + e0) at N = 40: the fine zone, the
+  // sand beside it to the wall and the sand below it (one particle a cell outside the fine zone).
+  ASSERT_EQ(c.regions.size(), 3u);
+  for (const MpmRegion& r : c.regions) {
+    EXPECT_NEAR(r.fill.density, 2650.0 / 1.68, 1e-8 * 1577.0);  // 9 digits
+    EXPECT_EQ(r.initial_stress, MpmInitialStress::geostatic);
+    EXPECT_NEAR(r.K0, 1.0 - std::sin(31.0 * kDeg), 1e-8);
+  }
   EXPECT_NEAR(c.regions[0].fill.y_max, H, 1e-9);
-  EXPECT_NEAR(c.regions[0].fill.x_max, 6.0 * D, 1e-9);
-  EXPECT_EQ(c.regions[0].initial_stress, MpmInitialStress::geostatic);
-  EXPECT_NEAR(c.regions[0].K0, 1.0 - std::sin(31.0 * kDeg), 1e-8);
+  EXPECT_NEAR(c.regions[1].fill.y_max, H, 1e-9);
+  EXPECT_NEAR(c.regions[1].fill.x_max, 6.0 * D, 1e-9);
+  EXPECT_DOUBLE_EQ(c.regions[2].fill.y_min, 0.0);
   EXPECT_DOUBLE_EQ(c.solver.gravity, 9.81);
   EXPECT_EQ(c.boundaries[static_cast<int>(mpm::Side::bottom)], mpm::BoundaryCondition::fixed);
   EXPECT_EQ(c.boundaries[static_cast<int>(mpm::Side::right)], mpm::BoundaryCondition::roller);
@@ -404,6 +415,63 @@ TEST(CentrifugeCase, QuickCaseParticlesStartOutsideThePileWithTheGeostaticStress
   for (double m : all.mass) mass += m;
   const double container = 2650.0 / 1.68 * 0.5 * std::pow(6.0 * D, 2) * H;  // per radian
   EXPECT_NEAR(mass, container, 1e-6 * container);
+}
+
+TEST(CentrifugeCase, FewerParticlesOutsideTheFineZoneFillTheSameSand) {
+  const double D = 0.0113, H = 12.0 * D;
+  const MpmCase c = quick_case();  // one particle a cell outside the fine zone (the default)
+  std::string text = kQuick;       // two per direction everywhere: one region
+  text.insert(text.find("[mesh]\n") + 7, "particles_per_cell_outside = 2\n");
+  const MpmCase uniform =
+      centrifuge_to_mpm_case(read_centrifuge_case_text(text, "quick.toml"), "mpm_case.toml");
+  ASSERT_EQ(uniform.regions.size(), 1u);
+  ASSERT_EQ(c.regions.size(), 3u);
+  EXPECT_EQ(c.regions[0].fill.particles_per_cell_x, 2);
+  EXPECT_EQ(c.regions[1].fill.particles_per_cell_x, 1);
+  EXPECT_EQ(c.regions[2].fill.particles_per_cell_y, 1);
+  EXPECT_EQ(c.x_nodes, uniform.x_nodes);  // the grid does not change
+  EXPECT_EQ(c.y_nodes, uniform.y_nodes);
+
+  // The fine zone (r < 2.5 D, down to 3 D below the deepest tip at 5 D) keeps its particles;
+  // outside it each cell holds one instead of four.
+  const double fine_radius = 2.5 * D, band_bottom = H - 8.0 * D;
+  EXPECT_NEAR(c.regions[0].fill.x_max, fine_radius, 1e-9);
+  EXPECT_NEAR(c.regions[0].fill.y_min, band_bottom, 1e-9);
+  const mpm::Grid grid = make_mpm_grid(c);
+  MpmCase no_pile = c, uniform_no_pile = uniform;
+  no_pile.bodies.clear();
+  uniform_no_pile.bodies.clear();
+  const mpm::Particles fewer = make_mpm_particles(no_pile, grid);
+  const mpm::Particles all = make_mpm_particles(uniform_no_pile, grid);
+  auto in_fine_zone = [&](const mpm::Vec2& x) {
+    return x.x() < fine_radius && x.y() > band_bottom;
+  };
+  std::size_t fine = 0, fine_all = 0, outside = 0, outside_all = 0;
+  for (const mpm::Vec2& x : fewer.position) (in_fine_zone(x) ? fine : outside) += 1;
+  for (const mpm::Vec2& x : all.position) (in_fine_zone(x) ? fine_all : outside_all) += 1;
+  EXPECT_EQ(fine, fine_all);
+  EXPECT_GT(outside, 0u);
+  EXPECT_EQ(4 * outside, outside_all);
+
+  // The same sand: its mass, and σ_v = ρ N g z with σ_h = K0 σ_v in every region.
+  double mass = 0.0;
+  for (double m : fewer.mass) mass += m;
+  const double container = 2650.0 / 1.68 * 0.5 * std::pow(6.0 * D, 2) * H;  // per radian
+  EXPECT_NEAR(mass, container, 1e-6 * container);
+  const double unit = 2650.0 / 1.68 * 40.0 * 9.81;  // [Pa/m]
+  const double K0 = 1.0 - std::sin(31.0 * kDeg);
+  int beside = 0, below = 0;
+  for (std::size_t p = 0; p < fewer.size(); ++p) {
+    const mpm::Vec2& x = fewer.position[p];
+    const double z = H - x.y();
+    const Vec6& stress = fewer.state[p].stress;
+    EXPECT_NEAR(-stress[k22], unit * z, 1e-6 * unit * z) << x.transpose();
+    EXPECT_NEAR(stress[k11], K0 * stress[k22], 1e-6 * std::abs(stress[k22])) << x.transpose();
+    if (x.x() > fine_radius) ++beside;
+    if (x.y() < band_bottom && x.x() < fine_radius) ++below;
+  }
+  EXPECT_GT(beside, 0);
+  EXPECT_GT(below, 0);
 }
 
 // --- stop_force_averaging_s ---------------------------------------------------------------

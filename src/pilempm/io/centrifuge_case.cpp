@@ -138,6 +138,8 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
     s.headroom_D = t->number_or("headroom_D", s.headroom_D, NumberRange::closed(0.5, 100.0));
     s.growth_ratio = t->number_or("growth_ratio", s.growth_ratio, NumberRange::closed(1.0, 2.0));
     s.particles_per_cell = t->integer_or("particles_per_cell", s.particles_per_cell, 1, 8);
+    s.particles_per_cell_outside =
+        t->integer_or("particles_per_cell_outside", s.particles_per_cell_outside, 1, 8);
     t->check_no_unknown_keys();
   }
 

@@ -196,18 +196,33 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
     line("[[material]]");
     line(table);
   }
-  line("");
-  line("[[region]]");
-  line("name = \"sand\"");
-  line(fmt::format("x_min_m = 0.0\nx_max_m = {:.9g}\ny_min_m = 0.0\ny_max_m = {:.9g}", R, H));
-  line(fmt::format("particles_per_cell = {}", s.particles_per_cell));
-  line(fmt::format("density_kg_per_m3 = {:.9g}", s.sand_density()));
-  line("material = " + toml_string(s.installation_material));
-  line(fmt::format("igs = \"{}\"", s.igs));
-  line("initial_stress = \"geostatic\"");
-  line(fmt::format("K0 = {:.9g}", scenario_K0(s)));
-  line(fmt::format("e0 = {:.9g}", s.e0));
-  line(fmt::format("e0_at = \"{}\"", s.e0_at));
+  // The sand: one region, or, with fewer particles outside the fine zone, the fine zone and the
+  // two rectangles around it (beside it to the wall; below it on the axis side). Their edges
+  // are grid lines, so the three tile the container as the one region does.
+  auto region = [&](const std::string& name, double x_min, double x_max, double y_min, double y_max,
+                    int per_cell) {
+    line("");
+    line("[[region]]");
+    line(fmt::format("name = \"{}\"", name));
+    line(fmt::format("x_min_m = {:.9g}\nx_max_m = {:.9g}\ny_min_m = {:.9g}\ny_max_m = {:.9g}",
+                     x_min, x_max, y_min, y_max));
+    line(fmt::format("particles_per_cell = {}", per_cell));
+    line(fmt::format("density_kg_per_m3 = {:.9g}", s.sand_density()));
+    line("material = " + toml_string(s.installation_material));
+    line(fmt::format("igs = \"{}\"", s.igs));
+    line("initial_stress = \"geostatic\"");
+    line(fmt::format("K0 = {:.9g}", scenario_K0(s)));
+    line(fmt::format("e0 = {:.9g}", s.e0));
+    line(fmt::format("e0_at = \"{}\"", s.e0_at));
+  };
+  const int outside = s.particles_per_cell_outside;
+  if (outside == s.particles_per_cell) {
+    region("sand", 0.0, R, 0.0, H, s.particles_per_cell);
+  } else {
+    region("sand", 0.0, fine_radius, band_bottom, H, s.particles_per_cell);
+    region("sand-beside", fine_radius, R, 0.0, H, outside);
+    region("sand-below", 0.0, fine_radius, 0.0, band_bottom, outside);
+  }
   line("");
   line("[[body]]");
   line("name = \"pile\"");
