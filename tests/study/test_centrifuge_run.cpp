@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -93,6 +94,29 @@ TEST_F(CentrifugeRunTest, HeadForceBalancesTheContainerReactionMinusTheSandWeigh
   const std::vector<double>& residual = pile_->column("equilibrium_residual_N");
   ASSERT_GT(head.size(), 5u);
   EXPECT_LT(std::abs(residual.back()), 0.1 * head.back());
+}
+
+TEST_F(CentrifugeRunTest, EquilibriumResidualIsTheSandsInertia) {
+  // Momentum balance of the sand, vertical: dP/dt = R_base − W − F_head, so the residual
+  // F_head − (R_base − W) plus the mean rate of the sand's momentum (scaled mass) over each row's
+  // interval is zero when every force on the sand is booked: the pile's contact, the container's
+  // constraints and gravity. Checked row by row, in every phase after the K0 phase (whose local
+  // damping adds forces outside the book), against the row's head force and the sand's weight.
+  const std::vector<double>& head = pile_->column("head_force_N");
+  const std::vector<double>& residual = pile_->column("equilibrium_residual_N");
+  const std::vector<double>& rate = pile_->column("sand_momentum_rate_N");
+  const std::vector<double>& weight = pile_->column("soil_weight_N");
+  ASSERT_EQ(rate.size(), head.size());
+  double largest_rate = 0.0;
+  for (std::size_t k = 1; k < head.size(); ++k) {
+    EXPECT_NEAR(residual[k] + rate[k], 0.0, 1e-6 * weight[k] + 1e-4 * std::abs(head[k]))
+        << "row " << k;
+    largest_rate = std::max(largest_rate, std::abs(rate[k]));
+  }
+  EXPECT_GT(largest_rate, 1e-3 * weight.back());  // the sand does move: the check is not 0 = 0
+  // The summary's closure over windows of one cell, and the 1 D windows.
+  EXPECT_LT(summary_->equilibrium_closure, 1e-4);
+  EXPECT_LE(summary_->equilibrium_error_1D, 0.02);
 }
 
 TEST_F(CentrifugeRunTest, HeadForceIsTipPlusShaft) {

@@ -41,6 +41,12 @@ struct CentrifugeSummary {
   /// Equilibrium during installation: max |F_head − (R_base − W)| / F_head over windows of one
   /// cell of travel with F_head above half its final value.
   double equilibrium_error = 0.0;
+  /// The same over windows of 1 D of travel (many periods of the sand column's ringing).
+  double equilibrium_error_1D = 0.0;
+  /// The same as equilibrium_error with the rate of the sand's vertical momentum (scaled mass)
+  /// added: F_head − (R_base − W) + dP/dt is zero up to round-off when the forces are booked
+  /// right, so equilibrium_error is the sand's inertia.
+  double equilibrium_closure = 0.0;
   /// max kinetic energy (with the scaled mass) / pile work during installation after the first
   /// D of travel.
   double max_kinetic_to_work = 0.0;
