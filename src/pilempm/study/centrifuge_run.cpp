@@ -48,6 +48,9 @@ struct PileRow {
   double base_reaction = 0.0, soil_weight = 0.0;  // [N]
   double kinetic = 0.0, pile_work = 0.0;          // [J]
   double momentum_rate = 0.0;  // the sand's vertical momentum (scaled mass): mean dP/dt [N]
+
+  // F_head − (R_base − W): zero in static equilibrium, −dP/dt of the sand in general.
+  double equilibrium_residual() const { return head - (base_reaction - soil_weight); }
 };
 
 // Records pile.csv during the run: one row per record interval of pile travel, and at every
@@ -153,8 +156,8 @@ std::string pile_csv(const std::vector<PileRow>& rows, double D) {
         "6g},{:.6g},{:.6g},{:.8g}\n",
         r.time, csv_field(r.phase), 1e3 * r.displacement, 1e3 * r.phase_displacement,
         1e3 * r.tip_depth, r.tip_depth / D, r.head, r.tip, r.shaft, r.tip / tip_area / 1e6,
-        r.base_reaction, r.soil_weight, r.head - (r.base_reaction - r.soil_weight), r.kinetic,
-        r.pile_work, r.phase_displacement / D, r.momentum_rate);
+        r.base_reaction, r.soil_weight, r.equilibrium_residual(), r.kinetic, r.pile_work,
+        r.phase_displacement / D, r.momentum_rate);
   return text;
 }
 
@@ -215,8 +218,8 @@ double max_window_ratio(const std::vector<PileRow>& rows, double window, double 
     sum += quantity(r) * step;
     travel += step;
     if (travel < window * (1.0 - 1e-6)) continue;
-    if (head / travel > threshold)
-      worst = std::isfinite(worst) ? std::max(worst, std::abs(sum) / head) : std::abs(sum) / head;
+    const double ratio = std::abs(sum) / head;
+    if (head / travel > threshold && !(ratio <= worst)) worst = ratio;  // NaN: the first window
     head = sum = travel = 0.0;
   }
   return worst;
@@ -553,14 +556,13 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
   }
   if (weight > 0.0) summary.installation_head_force = sum / weight;
   if (std::isfinite(summary.installation_head_force)) {
-    const auto residual = [](const PileRow& r) {
-      return r.head - (r.base_reaction - r.soil_weight);
-    };
+    const auto residual = [](const PileRow& r) { return r.equilibrium_residual(); };
     const double threshold = 0.5 * summary.installation_head_force;
     summary.equilibrium_error = max_window_ratio(rows, cell, threshold, residual);
     summary.equilibrium_error_1D = max_window_ratio(rows, D, threshold, residual);
-    summary.equilibrium_closure = max_window_ratio(
-        rows, cell, threshold, [&](const PileRow& r) { return residual(r) + r.momentum_rate; });
+    summary.equilibrium_closure = max_window_ratio(rows, cell, threshold, [](const PileRow& r) {
+      return r.equilibrium_residual() + r.momentum_rate;
+    });
   }
 
   std::vector<FigureSpec> figures = run_figures(s);
