@@ -203,7 +203,7 @@ TEST(CentrifugeCli, LongQuickCaseRunWritesConsistentPileForcesFieldsAndSummary) 
        {"time_s", "phase", "pile_displacement_mm", "phase_displacement_mm", "tip_depth_mm",
         "tip_depth_D", "head_force_N", "tip_force_N", "shaft_force_N", "tip_stress_MPa",
         "base_reaction_N", "soil_weight_N", "equilibrium_residual_N", "kinetic_J", "pile_work_J",
-        "sand_momentum_rate_N"})
+        "sand_momentum_rate_N", "damping_force_N"})
     EXPECT_NE(std::find(pile.header.begin(), pile.header.end(), column), pile.header.end())
         << column;
   ASSERT_GT(pile.rows.size(), 10u);

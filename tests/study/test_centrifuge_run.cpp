@@ -10,6 +10,7 @@
 #include <fstream>
 #include <iterator>
 #include <string>
+#include <utility>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
@@ -36,6 +37,22 @@ CentrifugeScenario tiny_scenario() {
   return s;
 }
 
+// pile.csv without its text column "phase" (read_numeric_csv takes numbers only).
+NumericTable read_numeric_csv_without(const fs::path& path) {
+  std::string text;
+  {
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.rfind('#', 0) == 0) continue;
+      const auto first = line.find(',');
+      const auto second = line.find(',', first + 1);
+      text += line.substr(0, first) + line.substr(second) + "\n";
+    }
+  }
+  return parse_numeric_csv(text, path.string());
+}
+
 class CentrifugeRunTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -53,22 +70,6 @@ class CentrifugeRunTest : public ::testing::Test {
     delete summary_;
     delete dir_;
   }
-  // pile.csv without its text column "phase" (read_numeric_csv takes numbers only).
-  static NumericTable read_numeric_csv_without(const fs::path& path) {
-    std::string text;
-    {
-      std::ifstream in(path);
-      std::string line;
-      while (std::getline(in, line)) {
-        if (line.rfind('#', 0) == 0) continue;
-        const auto first = line.find(',');
-        const auto second = line.find(',', first + 1);
-        text += line.substr(0, first) + line.substr(second) + "\n";
-      }
-    }
-    return parse_numeric_csv(text, path.string());
-  }
-
   static fs::path* dir_;
   static CentrifugeSummary* summary_;
   static NumericTable* pile_;
@@ -96,27 +97,63 @@ TEST_F(CentrifugeRunTest, HeadForceBalancesTheContainerReactionMinusTheSandWeigh
   EXPECT_LT(std::abs(residual.back()), 0.1 * head.back());
 }
 
-TEST_F(CentrifugeRunTest, EquilibriumResidualIsTheSandsInertia) {
-  // Momentum balance of the sand, vertical: dP/dt = R_base − W − F_head, so the residual
-  // F_head − (R_base − W) plus the mean rate of the sand's momentum (scaled mass) over each row's
-  // interval is zero when every force on the sand is booked: the pile's contact, the container's
-  // constraints and gravity. Checked row by row, in every phase after the K0 phase (whose local
-  // damping adds forces outside the book), against the row's head force and the sand's weight.
-  const std::vector<double>& head = pile_->column("head_force_N");
-  const std::vector<double>& residual = pile_->column("equilibrium_residual_N");
-  const std::vector<double>& rate = pile_->column("sand_momentum_rate_N");
-  const std::vector<double>& weight = pile_->column("soil_weight_N");
-  ASSERT_EQ(rate.size(), head.size());
-  double largest_rate = 0.0;
-  for (std::size_t k = 1; k < head.size(); ++k) {
-    EXPECT_NEAR(residual[k] + rate[k], 0.0, 1e-6 * weight[k] + 1e-4 * std::abs(head[k]))
+// Momentum balance of the sand, vertical: dP/dt = R_base + D − W − F_head, so the residual
+// F_head − (R_base − W) plus the mean rate of the sand's momentum (scaled mass) minus the local
+// damping's force D over each row's interval is zero when every force on the sand is booked: the
+// pile's contact, the container's constraints, gravity and the damping. Checked row by row against
+// the row's head force and the sand's weight; returns the largest |dP/dt| and |D|.
+std::pair<double, double> expect_force_book_closes(const NumericTable& pile) {
+  const std::vector<double>& head = pile.column("head_force_N");
+  const std::vector<double>& residual = pile.column("equilibrium_residual_N");
+  const std::vector<double>& rate = pile.column("sand_momentum_rate_N");
+  const std::vector<double>& damping = pile.column("damping_force_N");
+  const std::vector<double>& weight = pile.column("soil_weight_N");
+  EXPECT_EQ(rate.size(), head.size());
+  EXPECT_EQ(damping.size(), head.size());
+  double largest_rate = 0.0, largest_damping = 0.0;
+  for (std::size_t k = 0; k < head.size(); ++k) {
+    EXPECT_NEAR(residual[k] + rate[k] - damping[k], 0.0,
+                1e-6 * weight[k] + 1e-4 * std::abs(head[k]))
         << "row " << k;
     largest_rate = std::max(largest_rate, std::abs(rate[k]));
+    if (k > 0) largest_damping = std::max(largest_damping, std::abs(damping[k]));
   }
+  return {largest_rate, largest_damping};
+}
+
+TEST_F(CentrifugeRunTest, EquilibriumResidualIsTheSandsInertia) {
+  // Every row, the K0 phase's too: its local damping (0.7) is booked.
+  const std::vector<double>& damping = pile_->column("damping_force_N");
+  const std::vector<double>& weight = pile_->column("soil_weight_N");
+  ASSERT_GT(damping.size(), 2u);
+  EXPECT_GT(std::abs(damping[0]), 1e-3 * weight[0]);  // the K0 row: the damping does act
+  const auto [largest_rate, largest_damping] = expect_force_book_closes(*pile_);
+  EXPECT_EQ(largest_damping, 0.0);                // no damping after the K0 phase by default
   EXPECT_GT(largest_rate, 1e-3 * weight.back());  // the sand does move: the check is not 0 = 0
   // The summary's closure over windows of one cell, and the 1 D windows.
   EXPECT_LT(summary_->equilibrium_closure, 1e-4);
   EXPECT_LE(summary_->equilibrium_error_1D, 0.02);
+}
+
+TEST(CentrifugeRunDamping, TheForceBookClosesWithLocalDampingInEveryPhase) {
+  // With local damping after the K0 phase the damping carries part of the load, outside the
+  // container's reaction; booked, the balance closes as without it.
+  const fs::path dir =
+      fs::temp_directory_path() / ("pilempm-centrifuge-damped-" + std::to_string(::getpid()));
+  CentrifugeScenario s = tiny_scenario();
+  s.installation_D = 0.5;
+  s.relaxation = false;
+  s.load_test_D = 0.0;
+  s.damping = 0.1;
+  CentrifugeRunOptions options;
+  options.plots = false;
+  const CentrifugeSummary summary = run_centrifuge(s, "", dir, nullptr, options);
+  const NumericTable pile = read_numeric_csv_without(dir / "pile.csv");
+  const auto [largest_rate, largest_damping] = expect_force_book_closes(pile);
+  EXPECT_GT(largest_damping, 1e-3 * pile.column("soil_weight_N").back());
+  EXPECT_LT(summary.equilibrium_closure, 1e-4);
+  std::error_code ec;
+  fs::remove_all(dir, ec);
 }
 
 TEST_F(CentrifugeRunTest, HeadForceIsTipPlusShaft) {

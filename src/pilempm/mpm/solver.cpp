@@ -418,9 +418,12 @@ void Solver::particles_to_grid(double dt) {
           return;
         }
         const double vx = nodes.momentum_x[n] / mass, vy = nodes.momentum_y[n] / mass;
-        // Local non-viscous damping: f_damped = f - α |f| sign(v), per component.
-        const double damping_x = local_damping_force(alpha, nodes.force_x[n], vx);
-        const double damping_y = local_damping_force(alpha, nodes.force_y[n], vy);
+        // Local non-viscous damping: f_damped = f - α |f| sign(v), per free component. A held
+        // component does not move, so it takes none: else the damping of the load a support
+        // carries (α |f| with the sign of the velocity mapped from the particles) would enter the
+        // support's reaction and the damping's energy.
+        const double damping_x = free_x[n] * local_damping_force(alpha, nodes.force_x[n], vx);
+        const double damping_y = free_y[n] * local_damping_force(alpha, nodes.force_y[n], vy);
         // v^L = v + f dt / m, then the boundary conditions; Δv over the step for FLIP. A dashpot
         // -C v^L (absorbing boundary) is taken implicitly: v^L = (m v + f dt) / (m + C dt).
         double new_vx = vx + (nodes.force_x[n] + damping_x) * dt / mass;
@@ -445,12 +448,16 @@ void Solver::particles_to_grid(double dt) {
                                                      Vec2(new_vx - vx, new_vy - vy)};
         // Work of the damping force over the step, with the mean of the old and new velocities.
         account.sum[0] -= 0.5 * dt * (damping_x * (vx + new_vx) + damping_y * (vy + new_vy));
+        // The damping force on the soil.
+        account.sum[4] += damping_x;
+        account.sum[5] += damping_y;
       });
-  boundary_reaction_ = Vec2::Zero();
+  boundary_reaction_ = damping_force_ = Vec2::Zero();
   for (const ThreadAccount& account : accounts) {
     energies_.damping += account.sum[0];
     energies_.absorbed += account.sum[1];
     boundary_reaction_ += Vec2(account.sum[2], account.sum[3]);
+    damping_force_ += Vec2(account.sum[4], account.sum[5]);
   }
 }
 
@@ -592,6 +599,7 @@ void Solver::apply_contact(double dt, bool forces) {
           nodes.velocity_change_y[n] += change.y() - damping_change.y();
           node_motion_[static_cast<std::size_t>(n)].change += change - damping_change;
           energies_.damping -= damped_work;
+          damping_force_ -= damping_change * (mass / dt);  // the contact took it out
           const Vec2 on_body = -mass * change / dt;
           force.total += on_body;
           force.parts[static_cast<std::size_t>(surface.part)] += on_body;

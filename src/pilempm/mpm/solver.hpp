@@ -184,6 +184,11 @@ class Solver {
   /// the last step: Σ over constrained node components of m Δv / Δt − f (the force that holds
   /// them), per radian in axisymmetry [N]. Dashpots and contacts are not in it.
   const Vec2& boundary_reaction() const { return boundary_reaction_; }
+  /// The local damping's force on the soil in the last step: Σ over free node components of
+  /// −α |f| sign(v), less its share at contact nodes (taken out there), per radian in axisymmetry
+  /// [N]. With the boundary reaction, gravity, the contacts and the soil's momentum it closes the
+  /// soil's momentum balance; zero without damping.
+  const Vec2& damping_force() const { return damping_force_; }
 
   /// The state a checkpoint needs besides particles, bodies and settings.
   SolverRunState run_state() const;
@@ -269,7 +274,7 @@ class Solver {
   // that the totals do not depend on the order in which the threads finish.
   static constexpr std::size_t kNoParticle = static_cast<std::size_t>(-1);
   struct alignas(64) ThreadAccount {
-    double sum[4] = {0.0, 0.0, 0.0, 0.0};
+    double sum[6] = {0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     double max = 0.0;
     std::size_t failed_particle = kNoParticle;  // the smallest index that failed
     const char* failure = "";
@@ -280,6 +285,7 @@ class Solver {
   std::vector<RigidBody> rigid_bodies_;
   std::vector<RigidBodyForce> rigid_body_forces_;
   Vec2 boundary_reaction_ = Vec2::Zero();
+  Vec2 damping_force_ = Vec2::Zero();
 
   // Volumetric smoothing scratch: per particle its increments and cell, per cell the sums.
   struct SmoothedIncrement {

@@ -44,8 +44,9 @@ struct CentrifugeSummary {
   /// The same over windows of 1 D of travel (many periods of the sand column's ringing).
   double equilibrium_error_1D = 0.0;
   /// The same as equilibrium_error with the rate of the sand's vertical momentum (scaled mass)
-  /// added: F_head − (R_base − W) + dP/dt is zero up to round-off when the forces are booked
-  /// right, so equilibrium_error is the sand's inertia.
+  /// added and the local damping's force taken off: F_head − (R_base − W) + dP/dt − D is zero up
+  /// to round-off when the forces are booked right, so equilibrium_error is the sand's inertia
+  /// (and, in a run with damping, the damping's force).
   double equilibrium_closure = 0.0;
   /// max kinetic energy (with the scaled mass) / pile work during installation after the first
   /// D of travel.
