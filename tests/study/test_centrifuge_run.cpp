@@ -101,7 +101,8 @@ TEST_F(CentrifugeRunTest, HeadForceBalancesTheContainerReactionMinusTheSandWeigh
 // F_head − (R_base − W) plus the mean rate of the sand's momentum (scaled mass) minus the local
 // damping's force D over each row's interval is zero when every force on the sand is booked: the
 // pile's contact, the container's constraints, gravity and the damping. Checked row by row against
-// the row's head force and the sand's weight; returns the largest |dP/dt| and |D|.
+// the row's head force and the sand's weight; returns the largest |dP/dt| over all rows and the
+// largest |D| over the rows after the first (the K0 phase's, whose damping is always on).
 std::pair<double, double> expect_force_book_closes(const NumericTable& pile) {
   const std::vector<double>& head = pile.column("head_force_N");
   const std::vector<double>& residual = pile.column("equilibrium_residual_N");
