@@ -115,13 +115,14 @@ std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
     figures.push_back(f);
   } else if (group.name == "checks") {
     f.file = "checks.png";
-    f.cols = 2;
-    f.width_in = 13.0;
+    f.cols = 3;
+    f.width_in = 19.0;
     f.height_in = 5.0;
-    f.sharey = true;
     f.panels = {installation_panel("mesh convergence (0.025 m/s)", cases_of(group, {0, 1, 2, 3})),
                 installation_panel("jacking speed (D/6; the D/6 curve at 0.025 m/s)",
-                                   cases_of(group, {4, 5, 2, 6}))};
+                                   cases_of(group, {4, 5, 2, 6})),
+                installation_panel("jacking speed at depth (H = 35 D, 17 D to 20 D, D/4)",
+                                   cases_of(group, {7, 8}))};
     figures.push_back(f);
   } else {
     f.file = "stress_dependent_alpha.png";
@@ -147,14 +148,16 @@ std::string cell(const NumericTable& t, const std::string& column, const char* f
 const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
   static const std::vector<CentrifugeStudyGroup> groups{
       {"checks",
-       "numerical checks: small model, installation 3 D to 6 D",
+       "numerical checks: small model, installation 3 D to 6 D (and 17 D to 20 D)",
        {{"check_mesh_d3.toml", "D/3"},
         {"check_mesh_d4.toml", "D/4"},
         {"check_mesh_d6.toml", "D/6"},
         {"check_mesh_d8.toml", "D/8"},
         {"check_speed_0.1.toml", "D/6 at 0.1 m/s"},
         {"check_speed_0.05.toml", "D/6 at 0.05 m/s"},
-        {"check_speed_0.0125.toml", "D/6 at 0.0125 m/s"}}},
+        {"check_speed_0.0125.toml", "D/6 at 0.0125 m/s"},
+        {"check_depth_0.025.toml", "17 D to 20 D at 0.025 m/s"},
+        {"check_depth_0.0125.toml", "17 D to 20 D at 0.0125 m/s"}}},
       {"installation",
        "installation 10 D to 20 D (IGS 3): head force",
        {{"md_original.toml", "medium dense, original"},
