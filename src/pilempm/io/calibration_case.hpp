@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "pilempm/calibration/calibration_problem.hpp"
+#include "pilempm/core/error.hpp"
 
 namespace pilempm {
 
