@@ -270,10 +270,11 @@ std::string refine_nlopt(const CalibrationProblem& problem, RefineContext& conte
   std::string outcome;
   try {
     const nlopt::result result = optimiser.optimize(u, value);
-    outcome = result == nlopt::MAXEVAL_REACHED ? "evaluation limit reached"
-              : result == nlopt::FTOL_REACHED  ? "misfit change below tolerance"
-              : result == nlopt::XTOL_REACHED  ? "parameter change below tolerance"
-                                               : fmt::format("result code {}", int(result));
+    outcome = result == nlopt::SUCCESS           ? "converged"
+              : result == nlopt::MAXEVAL_REACHED ? "evaluation limit reached"
+              : result == nlopt::FTOL_REACHED    ? "misfit change below tolerance"
+              : result == nlopt::XTOL_REACHED    ? "parameter change below tolerance"
+                                                 : fmt::format("result code {}", int(result));
   } catch (const std::exception& e) {
     outcome = std::string("stopped: ") + e.what();
     u = context.best_u;

@@ -346,8 +346,9 @@ std::string measured_curve_csv(const LabTest& test, const std::string& comment) 
   for (const MeasuredQuantity& q : test.quantities) out += fmt::format(",{}", q.column);
   out += "\n";
   for (std::size_t j = 0; j < test.abscissa.size(); ++j) {
-    out += fmt::format("{:.8g}", test.abscissa[j]);
-    for (const MeasuredQuantity& q : test.quantities) out += fmt::format(",{:.8g}", q.values[j]);
+    out += fmt::format("{:.8g}", test.abscissa[j] + 0.0);  // no "-0"
+    for (const MeasuredQuantity& q : test.quantities)
+      out += fmt::format(",{:.8g}", q.values[j] + 0.0);
     out += "\n";
   }
   return out;
