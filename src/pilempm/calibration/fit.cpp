@@ -196,9 +196,9 @@ class MisfitCost final : public ceres::CostFunction {
   mutable std::optional<std::vector<double>> cached_r_;
 };
 
-class ProgressCallback final : public ceres::IterationCallback {
+class CeresProgress final : public ceres::IterationCallback {
  public:
-  ProgressCallback(RefineContext& context, const std::vector<double>& u)
+  CeresProgress(RefineContext& context, const std::vector<double>& u)
       : context_(context), u_(u) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
     context_.record(summary.iteration, u_, 2.0 * summary.cost);
@@ -230,7 +230,7 @@ std::string refine_ceres(const CalibrationProblem& problem, RefineContext& conte
   options.num_threads = 1;  // the Evaluator runs the element tests in parallel itself
   options.logging_type = ceres::SILENT;
   options.update_state_every_iteration = true;
-  ProgressCallback callback(context, u);
+  CeresProgress callback(context, u);
   options.callbacks.push_back(&callback);
   ceres::Solver::Summary summary;
   ceres::Solve(options, &ceres_problem, &summary);
