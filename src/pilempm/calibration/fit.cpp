@@ -198,8 +198,7 @@ class MisfitCost final : public ceres::CostFunction {
 
 class CeresProgress final : public ceres::IterationCallback {
  public:
-  CeresProgress(RefineContext& context, const std::vector<double>& u)
-      : context_(context), u_(u) {}
+  CeresProgress(RefineContext& context, const std::vector<double>& u) : context_(context), u_(u) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& summary) override {
     context_.record(summary.iteration, u_, 2.0 * summary.cost);
     return ceres::SOLVER_CONTINUE;
