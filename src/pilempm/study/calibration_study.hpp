@@ -5,7 +5,8 @@
 // the column names, the tables computed from the curves and from the analytical relations, a
 // description of the figures (DIR/figures.json) drawn as PNG files by the plotting script
 // (DIR/plot_figures.py, see plotting.hpp), and DIR/README.md with the tables, the figures and the
-// initial void-ratio convention of every item.
+// initial void-ratio convention of every item. Each item is one file under study/calibration/
+// and works on the results of the element tests in memory (study/calibration/item.hpp).
 //
 // The items, in order: oedometer curves (h_s = 4 and 2 GPa); drained triaxial curves (dense,
 // loose, Deltares); cyclic oedometer with IGS 1-4 and without (initial stiffness, accumulated
