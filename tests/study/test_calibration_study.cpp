@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <regex>
 #include <set>
@@ -214,6 +215,37 @@ TEST_F(QuickStudy, EveryCsvOfTheFiguresExistsWithUnitsInItsHeader) {
       found = found || read_text(dir() / name).find(column) != std::string::npos;
     EXPECT_TRUE(found) << column;
   }
+}
+
+// The items copy the curves of the tests from memory with the digits of the tests' own curve
+// files: a copied column is the test file's column, cell for cell, and q in MPa is q in kPa.
+TEST_F(QuickStudy, ItemCurvesAreTheTestsCurvesDigitForDigit) {
+  const auto item = read_csv_cells(dir() / "triaxial.csv");
+  ASSERT_GT(item.size(), 1u);
+  const auto column = [](const std::vector<std::string>& header, const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  std::map<std::string, std::vector<std::vector<std::string>>> tests;
+  std::map<std::string, std::size_t> next_row;
+  std::size_t rows = 0;
+  for (std::size_t i = 1; i < item.size(); ++i) {
+    const std::string& name = item[i][column(item[0], "test")];
+    if (!tests.count(name)) tests[name] = read_csv_cells(dir() / "tests" / (name + ".csv"));
+    const auto& curve = tests[name];
+    const std::size_t row = ++next_row[name];
+    ASSERT_LT(row, curve.size()) << name;
+    for (const char* copied : {"axial_strain_pct", "volumetric_strain_pct", "q_kPa", "p_kPa"})
+      EXPECT_EQ(item[i][column(item[0], copied)], curve[row][column(curve[0], copied)])
+          << name << " row " << row << " " << copied;
+    const double q_kPa = std::stod(item[i][column(item[0], "q_kPa")]);
+    EXPECT_NEAR(std::stod(item[i][column(item[0], "q_MPa")]) * 1e3, q_kPa,
+                1e-9 * std::abs(q_kPa) + 1e-12);
+    ++rows;
+  }
+  for (const auto& [name, curve] : tests) EXPECT_EQ(next_row[name] + 1, curve.size()) << name;
+  EXPECT_GT(rows, 1000u);
 }
 
 TEST_F(QuickStudy, ReadmeNamesEveryItemItsConventionAndFigures) {

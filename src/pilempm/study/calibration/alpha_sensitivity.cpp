@@ -41,14 +41,14 @@ std::string alpha_sensitivity(const TestResults& tests, ItemOutput& out, Calibra
   }
   fig.panels = {std::move(q), std::move(v)};
   out.add_figure(std::move(fig));
-  const PeakTable peaks = peak_table(tests, kAlphaSensitivity, labels);
-  out.write_csv("alpha_sensitivity_peaks.csv", peaks.csv);
+  const std::string peaks =
+      write_peak_table(tests, out, "alpha_sensitivity_peaks.csv", kAlphaSensitivity, labels);
   std::string md =
       "The original set with α changed alone (α = 0.12 is the original set itself, the 6 MPa "
       "test of the high-pressure series). α scales the pyknotropy factor f_d: a smaller α "
       "gives less peak strength and less dilation at the same density.\n\n";
   md += image("alpha_sensitivity.png", "alpha sensitivity");
-  md += markdown_table(peak_header(), peaks.rows, 2) + "\n";
+  md += peaks;
   return md;
 }
 

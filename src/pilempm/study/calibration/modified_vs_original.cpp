@@ -23,8 +23,8 @@ std::string modified_vs_original(const TestResults& tests, ItemOutput& out,
       fmt::format("Original against modified set, $e_0$ = {} at p = 0",
                   format_value(tests.test(kOriginal.first).initial.e0)),
       {kOriginal, kModified}, {labels[0], labels[1]}, {"C0", "C1"}, {"-", "--"}));
-  const PeakTable peaks = peak_table(tests, names, labels);
-  out.write_csv("modified_vs_original_peaks.csv", peaks.csv);
+  const std::string peaks =
+      write_peak_table(tests, out, "modified_vs_original_peaks.csv", names, labels);
   const HypoplasticParameters& m = tests.test(kModified.first).material.hypoplastic;
   std::string md = fmt::format(
       "The modified medium-dense set (φc = {:g}°, e_d0/e_c0/e_i0 = {:g}/{:g}/{:g} after Rohe "
@@ -33,7 +33,7 @@ std::string modified_vs_original(const TestResults& tests, ItemOutput& out,
       "dilation at both pressures.\n\n",
       m.phi_c_deg, m.e_d0, m.e_c0, m.e_i0, m.alpha);
   md += image("modified_vs_original.png", "modified against original set");
-  md += markdown_table(peak_header(), peaks.rows, 2) + "\n";
+  md += peaks;
   return md;
 }
 

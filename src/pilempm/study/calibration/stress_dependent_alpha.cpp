@@ -75,9 +75,9 @@ std::string stress_dependent_alpha(const TestResults& tests, ItemOutput& out,
     report.stress_dependent.push_back(row);
   }
   out.write_csv("stress_dependent_alpha_table.csv", csv.text());
-  const PeakTable peaks =
-      peak_table(tests, names, {labels[0], labels[1], labels[2], labels[0], labels[1], labels[2]});
-  out.write_csv("stress_dependent_alpha_peaks.csv", peaks.csv);
+  const std::string peaks =
+      write_peak_table(tests, out, "stress_dependent_alpha_peaks.csv", names,
+                       {labels[0], labels[1], labels[2], labels[0], labels[1], labels[2]});
 
   const StressDependence& d =
       tests.test(kStressDependent.first).material.hypoplastic.stress_dependence;
@@ -96,7 +96,7 @@ std::string stress_dependent_alpha(const TestResults& tests, ItemOutput& out,
                        rows, 0) +
         "\n";
   md += image("stress_dependent_alpha.png", "stress-dependent alpha option");
-  md += markdown_table(peak_header(), peaks.rows, 2) + "\n";
+  md += peaks;
   return md;
 }
 

@@ -71,8 +71,9 @@ std::string curves_csv(const TestResults& tests, const std::vector<std::string>&
   return csv.text();
 }
 
-PeakTable peak_table(const TestResults& tests, const std::vector<std::string>& names,
-                     const std::vector<std::string>& labels) {
+std::string write_peak_table(const TestResults& tests, ItemOutput& out, const std::string& file,
+                             const std::vector<std::string>& names,
+                             const std::vector<std::string>& labels) {
   CsvText csv(
       "pilempm study calibration: peak of q of each drained triaxial test; compression "
       "positive; psi after Schanz & Vermeer from d eps_v/d eps_1 at the peak; peak_at_end = "
@@ -80,7 +81,7 @@ PeakTable peak_table(const TestResults& tests, const std::vector<std::string>& n
       {"test", "series", "set", "sigma3_kPa", "e0", "e0_at", "initial_void_ratio", "peak_q_kPa",
        "axial_strain_at_peak_pct", "phi_peak_deg", "dilatancy_ratio_at_peak", "psi_peak_deg",
        "peak_at_end"});
-  PeakTable table;
+  std::vector<std::vector<std::string>> rows;
   for (std::size_t i = 0; i < names.size(); ++i) {
     const ElementRunRecord& r = tests.record(names[i]);
     const ElementCase& c = *r.test;
@@ -92,21 +93,17 @@ PeakTable peak_table(const TestResults& tests, const std::vector<std::string>& n
              csv_number(100.0 * s.axial_strain_at_peak), csv_number(s.phi_at_peak_deg),
              csv_number(s.dilatancy_ratio_at_peak), csv_number(s.psi_at_peak_deg),
              s.peak_at_end ? "true" : "false"});
-    table.rows.push_back({labels[i], c.material.name, fmt::format("{:g}", sigma3 / kKPa),
-                          e0_text(c), fixed_number(s.initial_void_ratio, 4),
-                          shown_number(s.peak_q / kKPa, "{:.6g}") + (s.peak_at_end ? " (end)" : ""),
-                          fixed_number(100.0 * s.axial_strain_at_peak, 2),
-                          fixed_number(s.phi_at_peak_deg, 2), fixed_number(s.psi_at_peak_deg, 2)});
+    rows.push_back({labels[i], c.material.name, fmt::format("{:g}", sigma3 / kKPa), e0_text(c),
+                    fixed_number(s.initial_void_ratio, 4),
+                    shown_number(s.peak_q / kKPa, "{:.6g}") + (s.peak_at_end ? " (end)" : ""),
+                    fixed_number(100.0 * s.axial_strain_at_peak, 2),
+                    fixed_number(s.phi_at_peak_deg, 2), fixed_number(s.psi_at_peak_deg, 2)});
   }
-  table.csv = csv.text();
-  return table;
-}
-
-const std::vector<std::string>& peak_header() {
+  out.write_csv(file, csv.text());
   static const std::vector<std::string> header = {"series",          "set",        "σ3 [kPa]",
                                                   "e0 (convention)", "e at start", "peak q [kPa]",
                                                   "ε1 at peak [%]",  "φ peak [°]", "ψ peak [°]"};
-  return header;
+  return markdown_table(header, rows, 2) + "\n";
 }
 
 std::string e0_text(const ElementCase& c) {

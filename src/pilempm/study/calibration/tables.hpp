@@ -26,14 +26,11 @@ extern const char* const kTriaxialComment;  ///< of a triaxial curve CSV
 std::string curves_csv(const TestResults& tests, const std::vector<std::string>& names,
                        const std::vector<CurveColumn>& columns, const char* comment);
 
-/// The peak of each triaxial test: CSV text and Markdown rows (`labels` names the rows).
-struct PeakTable {
-  std::string csv;
-  std::vector<std::vector<std::string>> rows;
-};
-PeakTable peak_table(const TestResults& tests, const std::vector<std::string>& names,
-                     const std::vector<std::string>& labels);
-const std::vector<std::string>& peak_header();
+/// The peak of each triaxial test `names`: written as the item's CSV `file`; returns the
+/// Markdown table (and the blank line after it). `labels` names the rows.
+std::string write_peak_table(const TestResults& tests, ItemOutput& out, const std::string& file,
+                             const std::vector<std::string>& names,
+                             const std::vector<std::string>& labels);
 
 /// "0.68 (at p = 0)" or "0.68 (at initial stress)".
 std::string e0_text(const ElementCase& c);

@@ -58,14 +58,13 @@ std::string triaxial(const TestResults& tests, ItemOutput& out, CalibrationStudy
   for (auto& p : q_panels) fig.panels.push_back(std::move(p));
   for (auto& p : v_panels) fig.panels.push_back(std::move(p));
   out.add_figure(std::move(fig));
-  const PeakTable peaks = peak_table(tests, names, labels);
-  out.write_csv("triaxial_peaks.csv", peaks.csv);
+  const std::string peaks = write_peak_table(tests, out, "triaxial_peaks.csv", names, labels);
   std::string md =
       "Drained triaxial compression at constant cell pressure σ'_3 (also the isotropic "
       "consolidation stress) of the laboratory calibration series: dense, loose, and the two "
       "samples of the Deltares set at 200 kPa. Negative volumetric strain is dilation.\n\n";
   md += image("triaxial.png", "drained triaxial curves");
-  md += markdown_table(peak_header(), peaks.rows, 2) + "\n";
+  md += peaks;
   return md;
 }
 
