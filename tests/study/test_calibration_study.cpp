@@ -272,7 +272,7 @@ TEST_F(QuickStudy, ReadmeNamesEveryItemItsConventionAndFigures) {
     for (const std::string& csv : item.csv)
       EXPECT_NE(section.find("(" + csv + ")"), std::string::npos) << csv;
   }
-  // Where the study used which convention (BRIEF §3): laboratory tests at the initial stress,
+  // Where the study used which convention (docs/study.md §2): laboratory tests at the initial stress,
   // the high-pressure and alpha series scaled from zero pressure.
   EXPECT_NE(report().items[0].convention.find("`initial-stress`"), std::string::npos);
   EXPECT_NE(report().items[3].convention.find("`zero-pressure`"), std::string::npos);
@@ -300,7 +300,7 @@ TEST_F(QuickStudy, HighPressurePeaksFallWithPressureBesideBolton) {
       EXPECT_LT(rows[i].initial_void_ratio, rows[i - 1].initial_void_ratio);
     }
   }
-  // BRIEF §4: Bolton's table at 500 kPa and 30 MPa.
+  // docs/study.md §3.1: Bolton's table at 500 kPa and 30 MPa.
   EXPECT_NEAR(rows.front().bolton.phi_max_deg, 38.788, 5e-4);
   EXPECT_NEAR(rows.front().bolton.psi_max_deg, 16.277, 5e-4);
   EXPECT_NEAR(rows.back().bolton.phi_max_deg, 27.119, 5e-4);
@@ -342,7 +342,7 @@ TEST_F(QuickStudy, AlphaFallsWithPressureAndEndsWithoutAPeak) {
     EXPECT_EQ(series.points.back().status, AlphaStatus::no_peak);  // 30 MPa
     EXPECT_FALSE(series.points.back().alpha.has_value());
   }
-  // BRIEF §4: alpha ~ 0.13 at 100 kPa for e = 0.68 with the original set.
+  // docs/study.md §3.4: alpha ~ 0.13 at 100 kPa for e = 0.68 with the original set.
   const AlphaPressureSeries& e068 = all.front();
   ASSERT_EQ(e068.e0, 0.68);
   ASSERT_EQ(e068.convention, VoidRatioConvention::at_initial_stress);

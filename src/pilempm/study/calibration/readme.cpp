@@ -32,10 +32,10 @@ std::string study_readme(const CalibrationStudyReport& report,
   std::string md = "# Calibration study: hypoplastic model, Baskarp sand\n\n";
   md += fmt::format(
       "Written by `pilempm study calibration{}` (pilempm 0.1.0). It reproduces the "
-      "element-test and analytical chapters of the Deltares study (BRIEF.md §3–§4: oedometer, "
+      "element-test and analytical chapters of the Deltares study (docs/study.md §2–§3: oedometer, "
       "cyclic oedometer, drained triaxial, high-pressure triaxial beside Bolton, α after Herle "
       "& Gudehus, sensitivity to α, modified against original set) and adds the "
-      "stress-dependent α option (§6). Stresses and strains are compression positive; strains "
+      "stress-dependent α option (docs/study.md §5). Stresses and strains are compression positive; strains "
       "are logarithmic (sums of the increments), in percent. Each item has a CSV with the unit "
       "in every column name and a figure; the element tests behind them are in `tests/`.\n\n",
       report.quick ? " --quick" : "");
@@ -63,7 +63,7 @@ std::string study_readme(const CalibrationStudyReport& report,
 
   md += "## Items and their initial void-ratio convention\n\n";
   md +=
-      "Every element test states how its initial void ratio e0 is meant (BRIEF §2): "
+      "Every element test states how its initial void ratio e0 is meant (docs/model.md §3): "
       "`initial-stress` (e0 is the void ratio at the initial stress) or `zero-pressure` (e0 "
       "is a reference at p = 0, scaled to the initial mean stress by Bauer's law). The void "
       "ratio actually used at the start is in every table and CSV (`initial_void_ratio`).\n\n";

@@ -82,7 +82,7 @@ std::string stress_dependent_alpha(const TestResults& tests, ItemOutput& out,
   const StressDependence& d =
       tests.test(kStressDependent.first).material.hypoplastic.stress_dependence;
   std::string md = fmt::format(
-      "Beyond the study (BRIEF §6): the study concludes that α should fall as the stress "
+      "Beyond the study (docs/study.md §5): the study concludes that α should fall as the stress "
       "level rises. The model option `stress_dependence = {{ alpha = true }}` on the original "
       "set lets α follow p: {:g} up to {:g} MPa, {:g} from {:g} MPa on, a smoothstep in ln p "
       "between (α and its slope continuous; item 5 draws the law beside the Herle & Gudehus "
