@@ -20,6 +20,7 @@
 #include "pilempm/io/element_output.hpp"
 #include "pilempm/io/element_run.hpp"
 #include "pilempm/io/material_reader.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 
 namespace pilempm::cli {
 

@@ -12,11 +12,11 @@
 #include "pilempm/constitutive/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
-#include "pilempm/io/element_output.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
 #include "pilempm/io/mpm_phase_control.hpp"
 #include "pilempm/io/mpm_tractions.hpp"
-#include "pilempm/io/text_escaping.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
+#include "pilempm/io/output/format.hpp"
 
 namespace pilempm {
 
@@ -106,9 +106,10 @@ std::string mpm_energies_header(mpm::Geometry geometry) {
 
 std::string mpm_energies_row(const mpm::Solver& solver, double time_step) {
   const mpm::Energies& e = solver.energies();
-  return fmt::format("{:.10g},{},{:.6g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
-                     solver.time(), solver.steps(), time_step, e.kinetic, e.internal,
-                     e.external_work, e.damping, e.contact_work, e.absorbed);
+  return csv_row({csv_number(solver.time(), 10), std::to_string(solver.steps()),
+                  csv_number(time_step, 6), csv_number(e.kinetic, 10), csv_number(e.internal, 10),
+                  csv_number(e.external_work, 10), csv_number(e.damping, 10),
+                  csv_number(e.contact_work, 10), csv_number(e.absorbed, 10)});
 }
 
 namespace {
@@ -195,18 +196,19 @@ std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::st
     const mpm::RigidBodyForce& force =
         forces != nullptr ? forces->at(static_cast<std::size_t>(b)) : solver.rigid_body_force(b);
     rows += fmt::format(
-        "{:.10g},{},{},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", solver.time(),
-        solver.steps(), csv_field(phase), csv_field(body_names.at(static_cast<std::size_t>(b))),
-        body.displacement().x(), body.displacement().y(), body.velocity().x(), body.velocity().y(),
-        radial * factor * force.total.x(), factor * force.total.y());
+        "{},{},{},{},{},{},{},{},{},{}", csv_number(solver.time(), 10), solver.steps(),
+        csv_field(phase), csv_field(body_names.at(static_cast<std::size_t>(b))),
+        csv_number(body.displacement().x(), 10), csv_number(body.displacement().y(), 10),
+        csv_number(body.velocity().x(), 10), csv_number(body.velocity().y(), 10),
+        csv_number(radial * factor * force.total.x(), 10),
+        csv_number(factor * force.total.y(), 10));
     const std::vector<std::string>& own = body.part_names();
     for (const std::string& part : parts) {
       rows += ',';
       const auto at = std::find(own.begin(), own.end(), part);
       if (at == own.end()) continue;
       const auto index = static_cast<std::size_t>(at - own.begin());
-      if (index < force.parts.size())
-        rows += fmt::format("{:.10g}", factor * force.parts[index].y());
+      if (index < force.parts.size()) rows += csv_number(factor * force.parts[index].y(), 10);
     }
     rows += '\n';
   }
