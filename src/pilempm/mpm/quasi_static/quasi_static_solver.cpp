@@ -73,6 +73,8 @@ void Settings::validate() const {
     throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
   if (!(support_threshold >= 0.0 && support_threshold < 1.0))
     throw InvalidValue("support_threshold", format_value(support_threshold), "in [0, 1)");
+  if (!(ghost_stiffness >= 0.0) || !std::isfinite(ghost_stiffness))
+    throw InvalidValue("ghost_stiffness", format_value(ghost_stiffness), ">= 0");
   if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0");
   if (linear_solver == LinearSolverKind::umfpack && !umfpack_available())
     throw InvalidValue("linear_solver", "umfpack", "sparse-lu (this build has no UMFPACK)");
@@ -87,6 +89,11 @@ struct QuasiStaticSolver::StepSetup {
   std::vector<char> active;          // per node
   int unknowns = 0;
   std::vector<char> near_body;  // per particle: whether its corners are checked for contact
+  struct GhostSpring {
+    int node_a, node_b;
+    double stiffness;
+  };
+  std::vector<GhostSpring> ghosts;
 };
 
 // The results of evaluating one iterate.
@@ -174,10 +181,21 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
     for (int k = 0; k < pn.count; ++k)
       support[std::size_t(pn.node[k])] += pn.weight[k] * p.volume[i];
   }
-  // A node is active where its support reaches the threshold's share of its own volume.
+  // Every node a particle reaches carries the unknowns of its free components; the weakly
+  // supported ones get ghost springs to their better supported neighbours.
+  std::vector<double> modulus(std::size_t(nodes), 0.0);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double m = materials_[std::size_t(p.material[i])]->wave_modulus(p.state[i]);
+    const ParticleNodes& pn = setup.nodes[i];
+    for (int k = 0; k < pn.count; ++k)
+      if (pn.weight[k] > 0.0)
+        modulus[std::size_t(pn.node[k])] = std::max(modulus[std::size_t(pn.node[k])], m);
+  }
   setup.active.assign(std::size_t(nodes), 0);
   setup.dof.assign(2 * std::size_t(nodes), -1);
   setup.unknowns = 0;
+  setup.ghosts.clear();
+  std::vector<double> weakness(std::size_t(nodes), 0.0);  // 1 - s_i / (threshold v_i), or 0
   const auto& free_x = grid_.free_x();
   const auto& free_y = grid_.free_y();
   for (int j = 0; j < grid_.ny(); ++j)
@@ -188,11 +206,31 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
       node_share(grid_.x_axis(), i, x0, x1);
       node_share(grid_.y_axis(), j, y0, y1);
       const double own = (y1 - y0) * (axisymmetric ? 0.5 * (x1 * x1 - x0 * x0) : (x1 - x0));
-      if (support[std::size_t(n)] < settings_.support_threshold * own) continue;
+      const double limit = settings_.support_threshold * own;
+      if (support[std::size_t(n)] < limit)
+        weakness[std::size_t(n)] = 1.0 - support[std::size_t(n)] / limit;
       setup.active[std::size_t(n)] = 1;
       if (free_x[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n)] = setup.unknowns++;
       if (free_y[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n) + 1] = setup.unknowns++;
     }
+  if (settings_.ghost_stiffness > 0.0)
+    for (int j = 0; j < grid_.ny(); ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int n = grid_.node_index(i, j);
+        if (!(weakness[std::size_t(n)] > 0.0)) continue;
+        const double scale =
+            axisymmetric ? std::max(grid_.x_axis().node(i), 0.5 * grid_.x_axis().spacing(0)) : 1.0;
+        const double k =
+            settings_.ghost_stiffness * modulus[std::size_t(n)] * weakness[std::size_t(n)] * scale;
+        const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+        for (const auto& ij : neighbours) {
+          if (ij[0] < 0 || ij[0] >= nx || ij[1] < 0 || ij[1] >= grid_.ny()) continue;
+          const int m = grid_.node_index(ij[0], ij[1]);
+          if (!setup.active[std::size_t(m)] || weakness[std::size_t(m)] >= weakness[std::size_t(n)])
+            continue;
+          setup.ghosts.push_back({n, m, k});
+        }
+      }
   setup.near_body.assign(count, 0);
   if (!bodies_.empty())
     for (std::size_t i = 0; i < count; ++i) {
@@ -210,6 +248,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   const long count = static_cast<long>(p.size());
   const int nodes = grid_.node_count();
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  const bool first_matrix =
+      tangent && std::all_of(du.begin(), du.end(), [](double v) { return v == 0.0; });
   const auto material_start = std::chrono::steady_clock::now();
 
   trial.node_displacement.assign(std::size_t(nodes), Vec2::Zero());
@@ -360,25 +400,31 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       }
       const double area = (l.x() + l.y()) * (axisymmetric ? std::abs(corner.x()) : 1.0);
       const double normal_stiffness = settings_.contact.penalty_factor * modulus * area / size;
+      // Points this close outside keep the stick stiffness in the matrix (see penalty_contact).
+      // Only in the first matrix of an increment: later on it would be a spring without force.
+      const double margin = first_matrix ? settings_.contact.stiffness_margin * size : 0.0;
       const std::size_t index = std::size_t(i) * kCorners + std::size_t(q);
       for (std::size_t body = 0; body < bodies_.size(); ++body) {
         const Vec2 body_move = body < body_step.size() ? body_step[body] : Vec2::Zero();
         const SurfaceQuery hit = bodies_[body].query(corner + moved - body_move);
-        if (!(hit.distance < 0.0)) continue;
+        if (!(hit.distance < margin)) continue;
         const ContactHistory& history = contact_history_[index];
         const Vec2 previous =
             history.body == static_cast<int>(body) ? history.tangential_force : Vec2::Zero();
-        const PointContact point = penalty_contact(
-            hit.distance, hit.normal, moved - body_move, previous, normal_stiffness,
-            settings_.contact.tangential_ratio * normal_stiffness, bodies_[body].friction());
-        trial.corner[index] = point;
-        trial.corner_body[index] = static_cast<int>(body);
-        trial.corner_part[index] = hit.part;
-        trial.corner_gap[index] = hit.distance;
-        for (int k = 0; k < pn.count; ++k) {
-          const std::size_t n = std::size_t(pn.node[k]);
-          trial.contact[2 * n] += coefficient[k] * point.force.x();
-          trial.contact[2 * n + 1] += coefficient[k] * point.force.y();
+        const PointContact point =
+            penalty_contact(hit.distance, hit.normal, moved - body_move, previous, normal_stiffness,
+                            settings_.contact.tangential_ratio * normal_stiffness,
+                            bodies_[body].friction(), margin);
+        if (point.active) {
+          trial.corner[index] = point;
+          trial.corner_body[index] = static_cast<int>(body);
+          trial.corner_part[index] = hit.part;
+          trial.corner_gap[index] = hit.distance;
+          for (int k = 0; k < pn.count; ++k) {
+            const std::size_t n = std::size_t(pn.node[k]);
+            trial.contact[2 * n] += coefficient[k] * point.force.x();
+            trial.contact[2 * n + 1] += coefficient[k] * point.force.y();
+          }
         }
         if (tangent)
           for (int a = 0; a < pn.count; ++a)
@@ -396,6 +442,25 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     }
   }
 
+  // Ghost springs between weakly supported nodes and their neighbours (internal forces).
+  for (const StepSetup::GhostSpring& ghost : setup.ghosts) {
+    const Vec2 stretch = trial.node_displacement[std::size_t(ghost.node_a)] -
+                         trial.node_displacement[std::size_t(ghost.node_b)];
+    for (int c = 0; c < 2; ++c) {
+      const std::size_t ca = 2 * std::size_t(ghost.node_a) + std::size_t(c);
+      const std::size_t cb = 2 * std::size_t(ghost.node_b) + std::size_t(c);
+      trial.internal[ca] += ghost.stiffness * stretch[c];
+      trial.internal[cb] -= ghost.stiffness * stretch[c];
+      if (!tangent) continue;
+      const int da = setup.dof[ca], db = setup.dof[cb];
+      if (da >= 0) trial.triplets.emplace_back(da, da, ghost.stiffness);
+      if (db >= 0) trial.triplets.emplace_back(db, db, ghost.stiffness);
+      if (da >= 0 && db >= 0) {
+        trial.triplets.emplace_back(da, db, -ghost.stiffness);
+        trial.triplets.emplace_back(db, da, -ghost.stiffness);
+      }
+    }
+  }
   trial.residual.setZero(setup.unknowns);
   double internal_norm = 0.0, external_norm = 0.0, contact_norm = 0.0;
   for (std::size_t c = 0; c < 2 * std::size_t(nodes); ++c) {

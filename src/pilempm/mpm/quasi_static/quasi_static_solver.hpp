@@ -69,10 +69,16 @@ struct Settings {
   TangentKind tangent = TangentKind::automatic;
   /// Relative size of the strain perturbation h = perturbation * max(||Δε||, 1e-6).
   double perturbation = 1.0e-7;
-  /// Nodes whose support Σ_p S_ip V_p is below this fraction of their cell volume (h_x h_y, times
-  /// r_i in axisymmetry) carry no unknown (their increment is zero): the stabilisation of nodes
-  /// that particles barely reach. 0 keeps every node a particle touches.
-  double support_threshold = 1.0e-3;
+  /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
+  /// body): a node whose support s_i = Σ_p S_ip V_p is below support_threshold times its own
+  /// volume v_i (h_x h_y, ∫ r dr dz in axisymmetry) is tied to each of its grid neighbours
+  /// with a better support by a ghost spring of stiffness
+  ///   k_i = ghost_stiffness · M_i · (1 − s_i / (support_threshold v_i)) (· r_i in axisymmetry),
+  /// M_i the largest constrained modulus of the particles it supports. The springs act between
+  /// nodes, so they exert no net force (nothing of the load is lost); they only keep the
+  /// node's equation away from singular. ghost_stiffness = 0: none.
+  double support_threshold = 0.05;
+  double ghost_stiffness = 1.0e-3;
   LinearSolverKind linear_solver = LinearSolverKind::sparse_lu;
   ContactSettings contact;
   int threads = 0;  ///< OpenMP threads for the particle loops; 0: omp_get_max_threads()

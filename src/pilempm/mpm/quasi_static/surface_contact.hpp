@@ -21,7 +21,10 @@ struct ContactSettings {
   /// particle size. The penetration under a contact stress σ_c is about σ_c d_p / (β M_p).
   double penalty_factor = 20.0;
   /// k_t = tangential_ratio · k_n.
-  double tangential_ratio = 1.0;
+  double tangential_ratio = 0.1;
+  /// Points closer than this fraction of the particle size outside the surface carry the stick
+  /// stiffness in the first Newton matrix of an increment, without force (see penalty_contact).
+  double stiffness_margin = 0.01;
 
   /// Throws InvalidValue naming the first setting out of range.
   void validate() const;
@@ -44,9 +47,12 @@ struct PointContact {
 };
 
 /// The penalty law at one point; `previous_tangential_force` is the history's force (projected
-/// on the current tangent).
+/// on the current tangent). A point just outside, 0 <= gap < margin, carries no force but the
+/// stick stiffness k_n n n^T + k_t t t^T, so that a body resting on a surface with zero gap (or
+/// an iterate that has just left it) does not leave the Newton matrix singular; it changes the
+/// path of the iterations, not their solution.
 PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
                              const Vec2& previous_tangential_force, double normal_stiffness,
-                             double tangential_stiffness, double friction);
+                             double tangential_stiffness, double friction, double margin = 0.0);
 
 }  // namespace pilempm::mpm::quasi_static
