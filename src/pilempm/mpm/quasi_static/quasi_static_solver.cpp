@@ -143,6 +143,13 @@ QuasiStaticSolver::QuasiStaticSolver(Grid grid, Particles particles,
       throw InvalidValue(what("radius"), format_value(x.x()), "> 0 in axisymmetry");
   }
   contact_history_.assign(particles_.size() * kCorners, ContactHistory{});
+  corner_position_.resize(particles_.size() * kCorners);
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const Vec2& l = particles_.half_size[i];
+    for (int q = 0; q < kCorners; ++q)
+      corner_position_[i * kCorners + std::size_t(q)] =
+          particles_.position[i] + Vec2((q & 1) ? l.x() : -l.x(), (q & 2) ? l.y() : -l.y());
+  }
   node_displacement_.assign(std::size_t(grid_.node_count()), Vec2::Zero());
 }
 
@@ -389,9 +396,11 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     const double modulus = model.wave_modulus(p.state[std::size_t(i)]);
     const double size = 2.0 * std::min(l.x(), l.y());
     for (int q = 0; q < kCorners; ++q) {
-      const Vec2 offset((q & 1) ? l.x() : -l.x(), (q & 2) ? l.y() : -l.y());
-      const Vec2 corner = x + offset;
-      // The corner moves with the particle's affine motion: c_k = S_k + ∇S_k · offset.
+      // The corners are contact points that move with the particle's affine motion (material
+      // points of their own, so that a converged gap carries over to the next step unchanged):
+      // Δu_q = Σ_k c_k Δu_k, c_k = S_k + ∇S_k · (x_q - x_p).
+      const Vec2 corner = corner_position_[std::size_t(i) * kCorners + std::size_t(q)];
+      const Vec2 offset = corner - x;
       double coefficient[16];
       Vec2 moved = Vec2::Zero();
       for (int k = 0; k < pn.count; ++k) {
@@ -404,6 +413,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       // Only in the first matrix of an increment: later on it would be a spring without force.
       const double margin = first_matrix ? settings_.contact.stiffness_margin * size : 0.0;
       const std::size_t index = std::size_t(i) * kCorners + std::size_t(q);
+      (void)l;
       for (std::size_t body = 0; body < bodies_.size(); ++body) {
         const Vec2 body_move = body < body_step.size() ? body_step[body] : Vec2::Zero();
         const SurfaceQuery hit = bodies_[body].query(corner + moved - body_move);
@@ -495,6 +505,23 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   if (!evaluate(setup, du, gravity, traction, body_step, true, trial, result)) {
     result.message = "a stress update failed at the start of the increment";
     return false;
+  }
+  // Predictor: the last increment's nodal displacements scaled to this one's body motion, kept
+  // when it lowers the residual (a pile pushed on deforms the soil much as in the last step).
+  double body_motion = 0.0;
+  for (const Vec2& d : body_step) body_motion = std::max(body_motion, d.norm());
+  if (settings_.predictor && body_motion > 0.0 && last_body_step_ > 0.0) {
+    const double scale = body_motion / last_body_step_;
+    std::vector<double> predicted(std::size_t(setup.unknowns), 0.0);
+    for (std::size_t c = 0; c < setup.dof.size(); ++c)
+      if (setup.dof[c] >= 0)
+        predicted[std::size_t(setup.dof[c])] = scale * node_displacement_[c / 2][int(c % 2)];
+    Trial predicted_trial;
+    if (evaluate(setup, predicted, gravity, traction, body_step, true, predicted_trial, result) &&
+        predicted_trial.residual.norm() < trial.residual.norm()) {
+      du.swap(predicted);
+      trial = std::move(predicted_trial);
+    }
   }
   record.initial_residual = trial.residual.norm();
   record.reference_force = trial.reference_force;
@@ -593,6 +620,10 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
                       (p.state[i].stress + trial.state[i].stress).dot(trial.strain_increment[i]);
     work_.external += (traction_mean * p.external_force[i] - Vec2(0.0, p.mass[i] * gravity_mean))
                           .dot(displacement);
+    for (int q = 0; q < kCorners; ++q) {
+      Vec2& corner = corner_position_[i * kCorners + std::size_t(q)];
+      corner += displacement + trial.gradient[i] * (corner - p.position[i]);
+    }
     p.position[i] += displacement;
     p.state[i] = trial.state[i];
     Mat2& deformation = p.deformation_gradient[i];
@@ -648,6 +679,8 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     if (setup.active[c / 2] && setup.dof[c] < 0)
       boundary_reaction_[int(c % 2)] -= trial.internal[c] - trial.external[c] - trial.contact[c];
   node_displacement_ = trial.node_displacement;
+  last_body_step_ = 0.0;
+  for (const Vec2& d : body_step) last_body_step_ = std::max(last_body_step_, d.norm());
   gravity_multiplier_ = gravity;
   traction_multiplier_ = traction;
 }
@@ -663,6 +696,9 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   const std::vector<RigidBody> start_bodies = bodies_;
   const std::vector<BodyForce> start_forces = body_forces_;
   const std::vector<ContactHistory> start_history = contact_history_;
+  const std::vector<Vec2> start_corners = corner_position_;
+  const std::vector<Vec2> start_node_displacement = node_displacement_;
+  const double start_body_step = last_body_step_;
   const double start_gravity = gravity_multiplier_, start_traction = traction_multiplier_;
   const Work start_work = work_;
   const Vec2 start_reaction = boundary_reaction_;
@@ -690,6 +726,9 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
       bodies_ = start_bodies;
       body_forces_ = start_forces;
       contact_history_ = start_history;
+      corner_position_ = start_corners;
+      node_displacement_ = start_node_displacement;
+      last_body_step_ = start_body_step;
       gravity_multiplier_ = start_gravity;
       traction_multiplier_ = start_traction;
       work_ = start_work;

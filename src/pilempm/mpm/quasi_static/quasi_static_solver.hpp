@@ -67,6 +67,9 @@ struct Settings {
   /// to what remains of the step).
   int easy_iterations = 4;
   TangentKind tangent = TangentKind::automatic;
+  /// Start the iterations of an increment in which bodies move from the last increment's nodal
+  /// displacements scaled to the body motion, where that lowers the residual.
+  bool predictor = true;
   /// Relative size of the strain perturbation h = perturbation * max(||Δε||, 1e-6).
   double perturbation = 1.0e-7;
   /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
@@ -79,7 +82,10 @@ struct Settings {
   /// node's equation away from singular. ghost_stiffness = 0: none.
   double support_threshold = 0.05;
   double ghost_stiffness = 1.0e-3;
-  LinearSolverKind linear_solver = LinearSolverKind::sparse_lu;
+  /// UMFPACK where the build has it (about 3 times faster on the pile problem,
+  /// docs/quasi-static.md).
+  LinearSolverKind linear_solver =
+      umfpack_available() ? LinearSolverKind::umfpack : LinearSolverKind::sparse_lu;
   ContactSettings contact;
   int threads = 0;  ///< OpenMP threads for the particle loops; 0: omp_get_max_threads()
 
@@ -203,6 +209,10 @@ class QuasiStaticSolver {
   std::vector<BodyForce> body_forces_;
   /// Tangential contact force per particle corner at the last converged state (4 per particle).
   std::vector<ContactHistory> contact_history_;
+  /// The contact points: the corners of the particles' domains at creation, moved since with
+  /// the particles' affine motion (4 per particle) [m].
+  std::vector<Vec2> corner_position_;
+  double last_body_step_ = 0.0;  // largest body displacement of the last increment [m]
   Vec2 boundary_reaction_ = Vec2::Zero();
   double max_penetration_ = 0.0;
   double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, pseudo_time_ = 0.0;

@@ -19,7 +19,7 @@ struct ContactSettings {
   /// particle's constrained modulus (ConstitutiveModel::wave_modulus), A_q the point's share of
   /// the domain's boundary (l_x + l_y, times r_q in axisymmetry), d_p = 2 min(l_x, l_y) the
   /// particle size. The penetration under a contact stress σ_c is about σ_c d_p / (β M_p).
-  double penalty_factor = 20.0;
+  double penalty_factor = 2.0;
   /// k_t = tangential_ratio · k_n.
   double tangential_ratio = 0.1;
   /// Points closer than this fraction of the particle size outside the surface carry the stick
