@@ -673,11 +673,12 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     bodies_[b].translate(body_step[b]);
   }
   body_forces_ = std::move(forces);
-  // The reaction of the constraints: minus the residual at the constrained active components.
+  // The reaction of the constraints on the soil: the residual f_int - f_ext - f_contact at the
+  // constrained components (what the constraint has to add for equilibrium there).
   boundary_reaction_.setZero();
   for (std::size_t c = 0; c < trial.internal.size(); ++c)
     if (setup.active[c / 2] && setup.dof[c] < 0)
-      boundary_reaction_[int(c % 2)] -= trial.internal[c] - trial.external[c] - trial.contact[c];
+      boundary_reaction_[int(c % 2)] += trial.internal[c] - trial.external[c] - trial.contact[c];
   node_displacement_ = trial.node_displacement;
   last_body_step_ = 0.0;
   for (const Vec2& d : body_step) last_body_step_ = std::max(last_body_step_, d.norm());
