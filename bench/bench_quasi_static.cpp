@@ -2,7 +2,7 @@
 // part (model updates with tangents, assembly, factorisation and solve), on the small pile
 // problem (pile_problem.hpp) in Mohr-Coulomb sand, the pile pushed by D/20 per step.
 //
-//   bench_quasi_static [cells_per_d] [threads] [sparse-lu|umfpack] [steps]
+//   bench_quasi_static [cells_per_d] [threads] [sparse-lu|umfpack] [steps] [steps_per_d]
 //   bench_quasi_static compare [cells_per_d] [steps] [repeats]
 //
 // `compare` pushes the pile `steps` steps, then factorises and solves the last Newton matrix
@@ -102,6 +102,7 @@ int main(int argc, char** argv) {
   const int threads = argc > 2 ? std::atoi(argv[2]) : 1;
   const std::string solver_name = argc > 3 ? argv[3] : "sparse-lu";
   const int steps = argc > 4 ? std::atoi(argv[4]) : 10;
+  const int steps_per_d = argc > 5 ? std::atoi(argv[5]) : 20;
   PileProblem problem;
   problem.cells_per_d = cells_per_d;
   problem.model = std::make_shared<MohrCoulomb>(sand());
@@ -119,8 +120,8 @@ int main(int argc, char** argv) {
   LoadStep load;
   load.gravity_multiplier = problem.gravity_multiplier;
   for (int step = 0; step <= steps; ++step) {
-    // Step 0: the geostatic equilibrium; then the pile moves down by D/20 per step.
-    load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
+    // Step 0: the geostatic equilibrium; then the pile moves down by D/steps_per_d per step.
+    load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / steps_per_d)};
     const auto start = std::chrono::steady_clock::now();
     const LoadStepResult r = solver.solve_step(load);
     const double seconds =
