@@ -629,18 +629,9 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     Mat2& deformation = p.deformation_gradient[i];
     deformation = (Mat2::Identity() + trial.gradient[i]) * deformation;
     p.out_of_plane_stretch[i] *= 1.0 + trial.hoop[i];
-    const double jacobian = deformation.determinant();
-    p.volume[i] = jacobian * p.out_of_plane_stretch[i] * p.initial_volume[i];
-    if (stretch_domains) {
-      // cpGIMP: the half-lengths follow the stretch sqrt(F F^T) along x and y, as in the
-      // explicit solver.
-      const Mat2 left_cauchy_green = deformation * deformation.transpose();
-      const double root_det = std::abs(jacobian);
-      const double scale = 1.0 / std::sqrt(left_cauchy_green.trace() + 2.0 * root_det);
-      p.half_size[i] =
-          p.initial_half_size[i].cwiseProduct(Vec2((left_cauchy_green(0, 0) + root_det) * scale,
-                                                   (left_cauchy_green(1, 1) + root_det) * scale));
-    }
+    p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
+    // cpGIMP: the domain follows the stretch, as in the explicit solver.
+    if (stretch_domains) p.half_size[i] = stretched_half_size(p.initial_half_size[i], deformation);
     if (!grid_.contains(p.position[i].x(), p.position[i].y()) ||
         (settings_.geometry == Geometry::axisymmetric && !(p.position[i].x() > 0.0)))
       throw Error(fmt::format("quasi-static: particle {} left the grid at ({}, {})", i,
