@@ -18,8 +18,8 @@
 #include "pilempm/analytic/bauer.hpp"
 #include "pilempm/analytic/bolton.hpp"
 #include "pilempm/analytic/herle_gudehus.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
-#include "pilempm/constitutive/rohe_void_ratios.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/rohe_void_ratios.hpp"
 #include "pilempm/core/error.hpp"
 
 namespace pilempm::cli {

@@ -23,7 +23,7 @@
 #include <cstdio>
 #include <memory>
 
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {

@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {

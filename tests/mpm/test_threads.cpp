@@ -9,7 +9,7 @@
 #include <memory>
 #include <random>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {

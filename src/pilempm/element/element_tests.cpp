@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/element/mixed_control_driver.hpp"
 
@@ -18,7 +18,7 @@ const Hypoplastic* as_hypoplastic(const ConstitutiveModel& model) {
 double igs_ratio(const ConstitutiveModel& model, const MaterialState& state) {
   const Hypoplastic* hypo = as_hypoplastic(model);
   if (hypo == nullptr || !hypo->intergranular().enabled()) return 0.0;
-  return state.intergranular_strain.norm() / hypo->intergranular().R;
+  return Vec6(Hypoplastic::intergranular_strain(state)).norm() / hypo->intergranular().R;
 }
 
 CurvePoint curve_point(const MixedControlDriver& driver, const UpdateResult& update) {
@@ -169,7 +169,7 @@ MaterialState initial_state(const ConstitutiveModel& model, const Vec6& stress,
     state.void_ratio =
         initial_void_ratio(hypo->parameters(), initial.e0, initial.e0_at, mean_stress(stress));
     if (hypo->intergranular().enabled() && initial.igs == InitialCondition::Igs::compression)
-      state.intergranular_strain = -hypo->intergranular().R / kSqrt3 * identity6();
+      Hypoplastic::intergranular_strain(state) = -hypo->intergranular().R / kSqrt3 * identity6();
   }
   return state;
 }

@@ -478,7 +478,7 @@ class Study {
     std::vector<std::vector<std::string>> rows(kOedometerE0.size());
     for (std::size_t s = 0; s < kOedometerSets.size(); ++s) {
       const ElementCase& first = test(oedometer_name(kOedometerSets[s], kOedometerE0[0]));
-      const double h_s = first.material.hypoplastic.h_s;
+      const double h_s = first.material.hypoplastic().h_s;
       const double sigma_end = record(first.name).summary.final.axial_stress;
       PanelSpec panel;
       panel.title = fmt::format("$h_s$ = {:g} GPa (set {})", h_s / 1e9, first.material.name);
@@ -1037,7 +1037,7 @@ class Study {
     std::vector<std::string> labels;
     for (std::size_t k = 0; k < kAlphaSensitivity.size(); ++k) {
       const ElementCase& c = test(kAlphaSensitivity[k]);
-      const std::string label = fmt::format("α = {:g}", c.material.hypoplastic.alpha);
+      const std::string label = fmt::format("α = {:g}", c.material.hypoplastic().alpha);
       labels.push_back(label);
       q.series.push_back(curve_series("alpha_sensitivity.csv", c.name, "axial_strain_pct", "q_MPa",
                                       label, color(k)));
@@ -1101,12 +1101,14 @@ class Study {
 
   std::string set_label(const std::string& name) const {
     const MaterialSpec& m = test(name).material;
-    const StressDependence& d = m.hypoplastic.stress_dependence;
+    const StressDependence& d = m.hypoplastic().stress_dependence;
     if (d.alpha_varies)
-      return fmt::format("{} with stress-dependent α ({:g} → {:g})",
-                         m.base.empty() ? m.name : m.base, d.alpha_low, d.alpha_high);
-    return fmt::format("{} set (φc = {:g}°, α = {:g})", m.name, m.hypoplastic.phi_c_deg,
-                       m.hypoplastic.alpha);
+      return fmt::format(
+          "{} with stress-dependent α ({:g} → {:g})",
+          m.hypoplastic_material().base.empty() ? m.name : m.hypoplastic_material().base,
+          d.alpha_low, d.alpha_high);
+    return fmt::format("{} set (φc = {:g}°, α = {:g})", m.name, m.hypoplastic().phi_c_deg,
+                       m.hypoplastic().alpha);
   }
 
   std::string modified_vs_original(StudyItem& item) {
@@ -1126,7 +1128,7 @@ class Study {
         peak_table(names, {set_label(kOriginal.first), set_label(kModified.first),
                            set_label(kOriginal.second), set_label(kModified.second)});
     write_csv(item, "modified_vs_original_peaks.csv", peaks.csv);
-    const HypoplasticParameters& m = test(kModified.first).material.hypoplastic;
+    const HypoplasticParameters& m = test(kModified.first).material.hypoplastic();
     std::string md = fmt::format(
         "The modified medium-dense set (φc = {:g}°, e_d0/e_c0/e_i0 = {:g}/{:g}/{:g} after Rohe "
         "at 10 MPa, α = {:g}) against the original set, at σ'_3 = 10 MPa (the stress level "
@@ -1168,7 +1170,7 @@ class Study {
       StressDependentRow row;
       row.sigma3 = sigma3(option);
       row.initial_void_ratio = record(option).summary.initial_void_ratio;
-      row.alpha_at_start = test(option).material.hypoplastic.stress_dependence.alpha(row.sigma3);
+      row.alpha_at_start = test(option).material.hypoplastic().stress_dependence.alpha(row.sigma3);
       row.phi_option_deg = record(option).summary.phi_at_peak_deg;
       row.phi_original_deg = record(original).summary.phi_at_peak_deg;
       row.phi_modified_deg = record(modified).summary.phi_at_peak_deg;
@@ -1194,7 +1196,8 @@ class Study {
         peak_table(names, {labels[0], labels[1], labels[2], labels[0], labels[1], labels[2]});
     write_csv(item, "stress_dependent_alpha_peaks.csv", peaks.csv);
 
-    const StressDependence& d = test(kStressDependent.first).material.hypoplastic.stress_dependence;
+    const StressDependence& d =
+        test(kStressDependent.first).material.hypoplastic().stress_dependence;
     std::string md = fmt::format(
         "Beyond the study (BRIEF §6): the study concludes that α should fall as the stress "
         "level rises. The model option `stress_dependence = {{ alpha = true }}` on the original "
