@@ -68,10 +68,12 @@ TEST(ModelRegistry, ATestModelsKeysAreStrict) {
 // Elastic: the final stress is the initial one plus C : (total strain) whatever the path, and the
 // history holds the path length sum ||Δε|| = 20 x ||Δε_1|| + 10 x ||Δε_2||.
 TEST(ModelRegistry, ATestModelRunsInAnElementTest) {
-  const ElementCase& c = parse_element_case(kElementCase, "case.toml").tests[0];
+  const ElementCaseFile file = parse_element_case(kElementCase, "case.toml");
+  const ElementCase& c = file.tests[0];
   const ElementResult result = run_element_test(*c.model, c.test, c.initial);
   const double G = 30e6, K = 50e6;
-  const double e11 = -0.002 + 0.001;  // the axial strain at the end (tension positive)
+  const double e11 =
+      0.002 - 0.001;  // at the end, tension positive (the file: compression positive)
   const CurvePoint& end = result.curve.back();
   EXPECT_NEAR(end.axial_strain, -e11, 1e-15);
   // Strain-path tests drive every component: sigma_11 = -p0 + (K + 4G/3) e11.
