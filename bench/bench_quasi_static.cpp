@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/quasi_static/pile_problem.hpp"
 
 using namespace pilempm;

@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/io/mpm_output.hpp"
 #include "pilempm/mpm/solver.hpp"
 

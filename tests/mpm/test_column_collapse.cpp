@@ -24,7 +24,7 @@
 #include <memory>
 
 #include "../support/mpm_builders.hpp"
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "../support/mpm_builders.hpp"
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {

@@ -16,7 +16,7 @@
 
 #include <Eigen/SVD>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 
 namespace pilempm::mpm::quasi_static {

@@ -7,9 +7,9 @@
 #include <memory>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/linear_elastic.hpp"
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 
 namespace pilempm::mpm::quasi_static {
@@ -212,7 +212,8 @@ TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIteratio
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const double vertical = -density * 9.81 * 40.0 * (height - particles.position[p].y()) - 1e3;
     particles.state[p].stress = diagonal6(0.5 * vertical, vertical, 0.5 * vertical);
-    particles.state[p].intergranular_strain = diagonal6(0.0, -model->intergranular().R, 0.0);
+    Hypoplastic::intergranular_strain(particles.state[p]) =
+        diagonal6(0.0, -model->intergranular().R, 0.0);
   }
   Settings settings;
   QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);

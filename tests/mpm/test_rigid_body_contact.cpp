@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "../support/mpm_builders.hpp"
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/solver.hpp"
 

@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "../support/mpm_builders.hpp"
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {

@@ -104,9 +104,9 @@ TEST(CalibrationStudyCase, SharedTestsEqualThoseOfTheElementTestExample) {
     EXPECT_EQ(it->initial.e0_at, e.initial.e0_at);
     EXPECT_EQ(it->initial.igs, e.initial.igs);
     EXPECT_EQ(it->material.name, e.material.name);
-    EXPECT_EQ(it->material.hypoplastic.alpha, e.material.hypoplastic.alpha);
-    EXPECT_EQ(it->material.hypoplastic.h_s, e.material.hypoplastic.h_s);
-    EXPECT_EQ(it->material.hypoplastic.e_c0, e.material.hypoplastic.e_c0);
+    EXPECT_EQ(it->material.hypoplastic().alpha, e.material.hypoplastic().alpha);
+    EXPECT_EQ(it->material.hypoplastic().h_s, e.material.hypoplastic().h_s);
+    EXPECT_EQ(it->material.hypoplastic().e_c0, e.material.hypoplastic().e_c0);
     EXPECT_EQ(it->igs.has_value(), e.igs.has_value());
     if (it->igs && e.igs) {
       EXPECT_EQ(it->igs->name, e.igs->name);

@@ -23,7 +23,7 @@ std::string number_text(double value) {
 }
 
 std::string igs_name(const ElementCase& c) {
-  if (c.material.kind != ModelKind::hypoplastic) return "-";
+  if (!c.material.is_hypoplastic()) return "-";
   return c.igs ? c.igs->name : "none";
 }
 
@@ -69,66 +69,28 @@ void write_programme(JsonWriter& j, const ElementTest& test) {
   std::visit(Visitor{j}, test);
 }
 
+// A model's description of its parameters, as JSON keys of the open object.
+class JsonParameterSink final : public ParameterSink {
+ public:
+  explicit JsonParameterSink(JsonWriter& j) : j_(j) {}
+  void number(std::string_view key, double value) override { j_.number(key, value); }
+  void integer(std::string_view key, long value) override { j_.integer(key, value); }
+  void text(std::string_view key, std::string_view value) override { j_.string(key, value); }
+  void boolean(std::string_view key, bool value) override { j_.boolean(key, value); }
+  void begin_group(std::string_view key) override { j_.object(key); }
+  void end_group() override { j_.end(); }
+
+ private:
+  JsonWriter& j_;
+};
+
 void write_material(JsonWriter& j, const ElementCase& c) {
   const MaterialSpec& m = c.material;
   j.object("material");
-  j.string("name", m.name).string("model", to_string(m.kind)).string("origin", m.origin);
-  if (!m.base.empty()) j.string("base", m.base);
-  switch (m.kind) {
-    case ModelKind::hypoplastic: {
-      const HypoplasticParameters& p = m.hypoplastic;
-      j.number("phi_c_deg", p.phi_c_deg)
-          .number("h_s_MPa", p.h_s / kMPa)
-          .number("n", p.n)
-          .number("e_d0", p.e_d0)
-          .number("e_c0", p.e_c0)
-          .number("e_i0", p.e_i0)
-          .number("alpha", p.alpha)
-          .number("beta", p.beta);
-      if (p.stress_dependence.enabled()) {
-        const StressDependence& d = p.stress_dependence;
-        j.object("stress_dependence")
-            .boolean("alpha", d.alpha_varies)
-            .number("alpha_low", d.alpha_low)
-            .number("alpha_high", d.alpha_high)
-            .number("p_low_kPa", d.p_low / kKPa)
-            .number("p_high_kPa", d.p_high / kKPa)
-            .boolean("rohe_void_ratios", d.rohe_void_ratios)
-            .end();
-      }
-      j.object("igs").string("name", igs_name(c));
-      if (c.igs && c.igs->parameters.enabled()) {
-        const IntergranularStrainParameters& g = c.igs->parameters;
-        j.number("m_R", g.m_R)
-            .number("m_T", g.m_T)
-            .number("R", g.R)
-            .number("beta_r", g.beta_r)
-            .number("chi", g.chi);
-      }
-      j.end();
-      j.object("integrator")
-          .string("scheme", to_string(c.integrator.scheme))
-          .number("tolerance", c.integrator.tolerance)
-          .number("min_mean_stress_Pa", c.integrator.min_mean_stress)
-          .integer("fixed_substeps", c.integrator.fixed_substeps)
-          .end();
-      break;
-    }
-    case ModelKind::mohr_coulomb: {
-      const MohrCoulombParameters& p = m.mohr_coulomb;
-      j.number("young_modulus_MPa", p.young_modulus / kMPa)
-          .number("poisson_ratio", p.poisson_ratio)
-          .number("cohesion_kPa", p.cohesion / kKPa)
-          .number("friction_angle_deg", p.friction_angle_deg)
-          .number("dilatancy_angle_deg", p.dilatancy_angle_deg)
-          .number("tension_cutoff_kPa", p.tension_cutoff / kKPa);  // null: no cut-off
-      break;
-    }
-    case ModelKind::linear_elastic:
-      j.number("young_modulus_MPa", m.elastic.young_modulus / kMPa)
-          .number("poisson_ratio", m.elastic.poisson_ratio);
-      break;
-  }
+  j.string("name", m.name).string("model", m.model).string("origin", m.origin);
+  JsonParameterSink sink(j);
+  const MaterialSpec effective = with_igs(m, c.igs);  // the test's intergranular strain
+  model_registry().at(m.model).describe(*effective.parameters, c.integrator, sink);
   j.end();
 }
 
@@ -261,8 +223,7 @@ std::string summary_json(const ElementRunRecord& r) {
   write_material(j, c);
   j.object("initial");
   j.number("e0", c.initial.e0).string("e0_at", to_string(c.initial.e0_at));
-  if (c.material.kind == ModelKind::hypoplastic)
-    j.string("igs_initial", std::string(to_string(c.initial.igs)));
+  if (c.material.is_hypoplastic()) j.string("igs_initial", std::string(to_string(c.initial.igs)));
   if (r.ok) j.number("void_ratio", s.initial_void_ratio);
   j.number("p_kPa", mean_stress(initial_stress_of(c.test)) / kKPa);
   j.end();
@@ -305,7 +266,7 @@ std::string summary_table_csv(const std::vector<ElementRunRecord>& records) {
         c.name,
         test_type_name(c.test),
         c.material.name,
-        std::string(to_string(c.material.kind)),
+        c.material.model,
         igs_name(c),
         number_text(c.initial.e0),
         std::string(to_string(c.initial.e0_at)),

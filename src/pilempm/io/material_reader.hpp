@@ -1,7 +1,8 @@
 #pragma once
-// Materials from case files: [[material]] tables (hypoplastic, Mohr-Coulomb, linear elastic), the
-// named hypoplastic sets usable by name without a table, the intergranular strain ("igs": a named
-// set or an inline table) and the [integrator] table. Keys carry their units (h_s_MPa,
+// Materials from case files: [[material]] tables of any registered model (the model's own reader,
+// from constitutive/model_registry.hpp, reads its keys through a TomlParameterSource), the named
+// hypoplastic sets usable by name without a table, the intergranular strain ("igs": a named set
+// or an inline table) and the [integrator] table. Keys carry their units (h_s_MPa,
 // cohesion_kPa); everything returned is SI.
 #include <optional>
 #include <string>
@@ -9,57 +10,96 @@
 #include <vector>
 
 #include "pilempm/constitutive/constitutive_model.hpp"
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
-#include "pilempm/constitutive/linear_elastic.hpp"
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_material.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/constitutive/model_registry.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/io/toml_reader.hpp"
 
 namespace pilempm {
 
-enum class ModelKind { hypoplastic, mohr_coulomb, linear_elastic };
-
-/// "hypoplastic", "mohr-coulomb", "linear-elastic".
-std::string_view to_string(ModelKind kind);
-
-/// The intergranular strain of a hypoplastic model and where it came from.
-struct IgsChoice {
-  std::string name;  ///< "IGS1".."IGS4", "none", or "custom" (an inline table)
-  IntergranularStrainParameters parameters;
-};
-
-/// A named IGS set ("IGS1".."IGS4", "none"); throws InvalidValue listing the names.
-IgsChoice named_igs(std::string_view name);
-/// "IGS1", ..., "none": what an igs key may name.
-std::vector<std::string> igs_choice_names();
-
-/// One material: a built-in hypoplastic set or a [[material]] of a case file.
+/// One material: a built-in hypoplastic set or a [[material]] of a case file. Its parameters are
+/// of its model's own type (the registry's reader made them).
 struct MaterialSpec {
   std::string name;
-  ModelKind kind = ModelKind::hypoplastic;
-  bool builtin = false;  ///< a named set of the library, not a [[material]] table
-  std::string base;      ///< the named set a hypoplastic material started from ("" if none)
-  HypoplasticParameters hypoplastic{};
-  std::optional<IgsChoice> igs;  ///< the material's own intergranular strain, if it sets one
-  ElasticParameters elastic{};
-  MohrCoulombParameters mohr_coulomb{};
+  std::string model = "hypoplastic";  ///< the registered model's name
+  bool builtin = false;               ///< a named set of the library, not a [[material]] table
+  std::shared_ptr<const ModelParameters> parameters;
   std::string note;
   std::string origin;  ///< "built-in set" or "file:line"
+
+  /// The parameters as the model's type P (nullptr when the material is another model).
+  template <class P>
+  const P* parameters_as() const {
+    return pilempm::parameters_as<P>(parameters.get());
+  }
+  bool is_hypoplastic() const { return parameters_as<HypoplasticMaterial>() != nullptr; }
+  /// The hypoplastic material's parameters (an Error for another model).
+  const HypoplasticMaterial& hypoplastic_material() const;
+  const HypoplasticParameters& hypoplastic() const { return hypoplastic_material().parameters; }
+};
+
+/// The material with the given intergranular strain (hypoplastic materials; others unchanged).
+MaterialSpec with_igs(const MaterialSpec& material, const std::optional<IgsChoice>& igs);
+
+/// Reads an igs value of a case file (see the hypoplastic reader, read_igs).
+IgsChoice read_igs(TableReader& reader, std::string_view key);
+
+/// The ParameterSource of a TOML table: how models read their keys from case files.
+class TomlParameterSource final : public ParameterSource {
+ public:
+  explicit TomlParameterSource(TableReader& reader) : reader_(&reader) {}
+  explicit TomlParameterSource(TableReader&& reader)
+      : owned_(std::make_unique<TableReader>(std::move(reader))), reader_(owned_.get()) {}
+
+  bool contains(std::string_view key) override { return reader_->contains(key); }
+  bool holds_string(std::string_view key) override;
+  double number(std::string_view key, const NumberRange& range) override {
+    return reader_->number(key, range);
+  }
+  std::optional<double> optional_number(std::string_view key, const NumberRange& range) override {
+    return reader_->optional_number(key, range);
+  }
+  double number_or(std::string_view key, double fallback, const NumberRange& range) override {
+    return reader_->number_or(key, fallback, range);
+  }
+  bool boolean_or(std::string_view key, bool fallback) override {
+    return reader_->boolean_or(key, fallback);
+  }
+  std::string choice(std::string_view key, const std::vector<std::string>& allowed) override {
+    return reader_->choice(key, allowed);
+  }
+  std::optional<std::string> optional_choice(std::string_view key,
+                                             const std::vector<std::string>& allowed) override {
+    return reader_->optional_choice(key, allowed);
+  }
+  std::unique_ptr<ParameterSource> table(std::string_view key) override;
+  void declare(const std::vector<std::string>& keys) override { reader_->declare(keys); }
+  void check_no_unknown_keys() const override { reader_->check_no_unknown_keys(); }
+  InputError error(std::string_view key, const std::string& reason) const override {
+    return reader_->error(key, reason);
+  }
+  InputError error_from(const InvalidValue& invalid, const KeyMap& keys = {},
+                        const std::string& origin = "") const override {
+    return reader_->error_from(invalid, keys, origin);
+  }
+
+ private:
+  std::unique_ptr<TableReader> owned_;
+  TableReader* reader_;
 };
 
 /// A built-in hypoplastic set as a material (throws InvalidValue for an unknown name).
 MaterialSpec builtin_material(std::string_view set_name);
 
-/// Reads an igs value: a name (IGS1..IGS4, none) or an inline table {m_R, m_T, R, beta_r, chi},
-/// optionally with base = "<IGS set>" and single overrides.
-IgsChoice read_igs(TableReader& reader, std::string_view key);
-
 /// Reads an [integrator] table: scheme, tolerance, min_mean_stress_Pa, fixed_substeps,
 /// max_substeps, min_substep (all optional; the library's defaults otherwise).
 IntegratorSettings read_integrator(TableReader& table);
 
-/// Builds the model. `igs` applies to the hypoplastic model only (nullopt: no intergranular
-/// strain); the integrator settings likewise.
+/// Builds the model through the registry. `igs` applies to the hypoplastic model only (nullopt:
+/// no intergranular strain); the integrator settings likewise.
 ModelPtr make_model(const MaterialSpec& material, const std::optional<IgsChoice>& igs,
                     const IntegratorSettings& integrator);
 

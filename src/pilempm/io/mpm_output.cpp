@@ -9,7 +9,7 @@
 #include <map>
 #include <sstream>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
@@ -42,9 +42,25 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
                               const std::vector<int>& material_index) {
   const mpm::Particles& particles = solver.particles();
   const std::size_t n = particles.size();
-  const std::vector<double> igs_size = mpm_igs_sizes(solver);
-  const bool any_igs =
-      std::any_of(igs_size.begin(), igs_size.end(), [](double r) { return r > 0; });
+  // The models' own output fields by name (e.g. igs_rho), 0 where a particle's model lacks one;
+  // own[m][k]: model m's index of field k, -1 if it has none.
+  const std::vector<ModelPtr>& models = solver.materials();
+  std::vector<PointField> model_fields;
+  std::vector<std::vector<int>> own(models.size());
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    const std::vector<std::string> names = models[m]->output_fields();
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      auto it = std::find_if(model_fields.begin(), model_fields.end(),
+                             [&](const PointField& f) { return f.name == names[j]; });
+      if (it == model_fields.end()) {
+        model_fields.push_back({names[j], 1, std::vector<double>(n)});
+        it = model_fields.end() - 1;
+      }
+      const std::size_t k = static_cast<std::size_t>(it - model_fields.begin());
+      if (own[m].size() <= k) own[m].resize(k + 1, -1);
+      own[m][k] = static_cast<int>(j);
+    }
+  }
 
   PointCloud cloud;
   cloud.coordinates.resize(3 * n);
@@ -52,7 +68,6 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
   PointField mean{"p_kPa", 1, std::vector<double>(n)};
   PointField deviator{"q_kPa", 1, std::vector<double>(n)};
   PointField void_ratio{"void_ratio", 1, std::vector<double>(n)};
-  PointField igs{"igs_rho", 1, std::vector<double>(any_igs ? n : 0)};
   PointField velocity{"velocity_m_per_s", 3, std::vector<double>(3 * n)};
   PointField displacement{"displacement_m", 3, std::vector<double>(3 * n)};
   PointField material{"material", 1, std::vector<double>(n)};
@@ -69,10 +84,11 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
     deviator.values[p] = deviator_stress(s) / kKPa;
     void_ratio.values[p] = state.void_ratio;
     const int model = particles.material[p];
-    if (any_igs) {
-      const double r = igs_size[static_cast<std::size_t>(model)];
-      igs.values[p] = r > 0.0 ? std::min(1.0, state.intergranular_strain.norm() / r) : 0.0;
-    }
+    const std::vector<int>& fields = own[static_cast<std::size_t>(model)];
+    for (std::size_t k = 0; k < fields.size(); ++k)
+      if (fields[k] >= 0)
+        model_fields[k].values[p] = models[static_cast<std::size_t>(model)]->output_field(
+            static_cast<std::size_t>(fields[k]), state);
     velocity.values[3 * p] = particles.velocity[p].x();
     velocity.values[3 * p + 1] = particles.velocity[p].y();
     const mpm::Vec2 u = x - initial_position[p];
@@ -84,7 +100,7 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
   cloud.fields.push_back(std::move(mean));
   cloud.fields.push_back(std::move(deviator));
   cloud.fields.push_back(std::move(void_ratio));
-  if (any_igs) cloud.fields.push_back(std::move(igs));
+  for (PointField& field : model_fields) cloud.fields.push_back(std::move(field));
   cloud.fields.push_back(std::move(velocity));
   cloud.fields.push_back(std::move(displacement));
   cloud.fields.push_back(std::move(material));

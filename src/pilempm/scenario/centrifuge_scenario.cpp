@@ -6,7 +6,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 #include "pilempm/core/error.hpp"
 
 namespace pilempm {

@@ -182,7 +182,8 @@ std::string fields_csv(const mpm::Solver& solver, double surface) {
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const MaterialState& state = particles.state[p];
     const double R = igs_size[static_cast<std::size_t>(particles.material[p])];
-    const double rho = R > 0.0 ? std::min(1.0, state.intergranular_strain.norm() / R) : 0.0;
+    const double rho =
+        R > 0.0 ? std::min(1.0, Vec6(Hypoplastic::intergranular_strain(state)).norm() / R) : 0.0;
     text +=
         csv_row({csv_number(1e3 * particles.position[p].x(), 6),
                  csv_number(1e3 * (surface - particles.position[p].y()), 6),

@@ -94,7 +94,8 @@ void Solver::update_stress(double dt) {
       // update it with the strain increment.
       MaterialState& state = p.state[i];
       const double spin = 0.5 * (increment(1, 0) - increment(0, 1));
-      if (spin != 0.0) rotate_state_about_z(state, spin);
+      if (spin != 0.0)
+        rotate_state_about_z(state, spin, models_[p.material[i]]->history_variables());
       const Vec6 stress_before = state.stress;
       const UpdateResult result = models_[p.material[i]]->update(state, strain_increment);
       if (!result.ok) {

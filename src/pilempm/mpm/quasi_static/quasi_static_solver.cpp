@@ -8,7 +8,7 @@
 #include <cmath>
 #include <limits>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/in_plane_rotation.hpp"
 
@@ -297,8 +297,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     // Hughes-Winget: rotate the converged state by the spin, then integrate the increment.
     MaterialState rotated = p.state[std::size_t(i)];
     const double spin = 0.5 * (gradient(1, 0) - gradient(0, 1));
-    if (spin != 0.0) rotate_state_about_z(rotated, spin);
     const ConstitutiveModel& model = *materials_[std::size_t(p.material[std::size_t(i)])];
+    if (spin != 0.0) rotate_state_about_z(rotated, spin, model.history_variables());
     MaterialState& state = trial.state[std::size_t(i)];
     state = rotated;
     if (!model.update(state, strain).ok) {

@@ -32,7 +32,7 @@ std::string alpha_sensitivity(const TestResults& tests, ItemOutput& out, Calibra
   std::vector<std::string> labels;
   for (std::size_t k = 0; k < kAlphaSensitivity.size(); ++k) {
     const ElementCase& c = tests.test(kAlphaSensitivity[k]);
-    const std::string label = fmt::format("α = {:g}", c.material.hypoplastic.alpha);
+    const std::string label = fmt::format("α = {:g}", c.material.hypoplastic().alpha);
     labels.push_back(label);
     q.series.push_back(curve_series("alpha_sensitivity.csv", c.name, "axial_strain_pct", "q_MPa",
                                     label, color(k)));

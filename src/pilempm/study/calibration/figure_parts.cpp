@@ -66,12 +66,14 @@ FigureSpec pressure_pair_figure(const TestResults& tests, const std::string& fil
 
 std::string set_label(const TestResults& tests, const std::string& name) {
   const MaterialSpec& m = tests.test(name).material;
-  const StressDependence& d = m.hypoplastic.stress_dependence;
+  const StressDependence& d = m.hypoplastic().stress_dependence;
   if (d.alpha_varies)
-    return fmt::format("{} with stress-dependent α ({:g} → {:g})", m.base.empty() ? m.name : m.base,
-                       d.alpha_low, d.alpha_high);
-  return fmt::format("{} set (φc = {:g}°, α = {:g})", m.name, m.hypoplastic.phi_c_deg,
-                     m.hypoplastic.alpha);
+    return fmt::format(
+        "{} with stress-dependent α ({:g} → {:g})",
+        m.hypoplastic_material().base.empty() ? m.name : m.hypoplastic_material().base, d.alpha_low,
+        d.alpha_high);
+  return fmt::format("{} set (φc = {:g}°, α = {:g})", m.name, m.hypoplastic().phi_c_deg,
+                     m.hypoplastic().alpha);
 }
 
 std::string image(const std::string& file, const std::string& alt) {

@@ -25,7 +25,7 @@ std::string modified_vs_original(const TestResults& tests, ItemOutput& out,
       {kOriginal, kModified}, {labels[0], labels[1]}, {"C0", "C1"}, {"-", "--"}));
   const std::string peaks =
       write_peak_table(tests, out, "modified_vs_original_peaks.csv", names, labels);
-  const HypoplasticParameters& m = tests.test(kModified.first).material.hypoplastic;
+  const HypoplasticParameters& m = tests.test(kModified.first).material.hypoplastic();
   std::string md = fmt::format(
       "The modified medium-dense set (φc = {:g}°, e_d0/e_c0/e_i0 = {:g}/{:g}/{:g} after Rohe "
       "at 10 MPa, α = {:g}) against the original set, at σ'_3 = 10 MPa (the stress level "

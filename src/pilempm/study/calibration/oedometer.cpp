@@ -29,7 +29,7 @@ std::string oedometer(const TestResults& tests, ItemOutput& out, CalibrationStud
   std::vector<std::vector<std::string>> rows(kOedometerE0.size());
   for (std::size_t s = 0; s < kOedometerSets.size(); ++s) {
     const ElementCase& first = tests.test(oedometer_name(kOedometerSets[s], kOedometerE0[0]));
-    const double h_s = first.material.hypoplastic.h_s;
+    const double h_s = first.material.hypoplastic().h_s;
     const double sigma_end = tests.summary(first.name).final.axial_stress;
     PanelSpec panel;
     panel.title = fmt::format("$h_s$ = {:g} GPa (set {})", h_s / 1e9, first.material.name);

@@ -21,7 +21,7 @@ StressDependentRow compare(const TestResults& tests, const std::string& option,
   StressDependentRow row;
   row.sigma3 = tests.sigma3(option);
   row.initial_void_ratio = tests.summary(option).initial_void_ratio;
-  row.alpha_at_start = tests.test(option).material.hypoplastic.stress_dependence.alpha(row.sigma3);
+  row.alpha_at_start = tests.test(option).material.hypoplastic().stress_dependence.alpha(row.sigma3);
   row.phi_option_deg = tests.summary(option).phi_at_peak_deg;
   row.phi_original_deg = tests.summary(original).phi_at_peak_deg;
   row.phi_modified_deg = tests.summary(modified).phi_at_peak_deg;
@@ -80,7 +80,7 @@ std::string stress_dependent_alpha(const TestResults& tests, ItemOutput& out,
                        {labels[0], labels[1], labels[2], labels[0], labels[1], labels[2]});
 
   const StressDependence& d =
-      tests.test(kStressDependent.first).material.hypoplastic.stress_dependence;
+      tests.test(kStressDependent.first).material.hypoplastic().stress_dependence;
   std::string md = fmt::format(
       "Beyond the study (docs/study.md §5): the study concludes that α should fall as the stress "
       "level rises. The model option `stress_dependence = {{ alpha = true }}` on the original "
