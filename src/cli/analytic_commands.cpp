@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <span>
 #include <string>
@@ -21,6 +20,7 @@
 #include "pilempm/constitutive/hypoplastic_parameters.hpp"
 #include "pilempm/constitutive/rohe_void_ratios.hpp"
 #include "pilempm/core/error.hpp"
+#include "pilempm/io/element_output.hpp"
 
 namespace pilempm::cli {
 
@@ -73,16 +73,15 @@ class Table {
     for (const auto& row : rows_) print_line([&](std::size_t i) { return row[i].shown; });
   }
 
+  /// Atomically, every write checked (a full disk is an error naming the file).
   void write_csv(const std::string& path) const {
-    std::ofstream file(path);
-    if (!file) throw Error(fmt::format("cannot open CSV file '{}' for writing", path));
-    file << fmt::format("{}\n", fmt::join(columns_, ","));
+    std::string text = fmt::format("{}\n", fmt::join(columns_, ","));
     for (const auto& row : rows_) {
       std::vector<std::string_view> values;
       for (const auto& cell : row) values.push_back(cell.csv);
-      file << fmt::format("{}\n", fmt::join(values, ","));
+      text += fmt::format("{}\n", fmt::join(values, ","));
     }
-    if (!file) throw Error(fmt::format("cannot write CSV file '{}'", path));
+    write_file_atomically(path, text);
   }
 
  private:

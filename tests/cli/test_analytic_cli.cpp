@@ -107,3 +107,37 @@ TEST(AnalyticCli, UnknownSetNamesTheKnownOnes) {
 }
 
 }  // namespace
+
+namespace {
+
+// A full disk, as the file-size limit makes it for this one command (the signal it would send is
+// ignored, so write() fails with EFBIG): the CSV cannot be written. Before the atomic, checked
+// writer the command exited 0 and left an empty file.
+TEST(AnalyticCli, CsvOnAFullDiskIsAnErrorAndKeepsTheOldFile) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("pilempm_test_full_" + std::to_string(::getpid()) + ".csv");
+  std::ofstream(path) << "old\n";
+  const std::string command = "trap '' XFSZ; ulimit -f 0; \"" + std::string(PILEMPM_BINARY) +
+                              "\" analytic bolton --id 0.95 --phi-c-deg 31 --csv \"" +
+                              path.string() + "\" 2>&1";
+  std::FILE* pipe = popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[4096];
+  std::size_t count;
+  while ((count = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, count);
+  const int status = pclose(pipe);
+  ASSERT_TRUE(WIFEXITED(status)) << output;
+  EXPECT_NE(WEXITSTATUS(status), 0) << output;
+  EXPECT_TRUE(contains(output, path.string())) << output;
+  std::ifstream file(path);
+  std::string first;
+  std::getline(file, first);
+  EXPECT_EQ(first, "old");
+  for (const auto& entry : std::filesystem::directory_iterator(path.parent_path()))
+    EXPECT_FALSE(entry.path().filename().string().starts_with(path.filename().string() + "."))
+        << "left behind: " << entry.path();
+  std::filesystem::remove(path);
+}
+
+}  // namespace

@@ -2,7 +2,7 @@
 // Output of element tests: the curve of one test as CSV, its summary as JSON, and the summary
 // table of a whole case (CSV, Markdown, and aligned text for the terminal). Curves are
 // compression positive with the unit in every column name (docs/case-files.md lists them).
-// Files are written atomically: into FILE.tmp in the same folder, then renamed over FILE, so an
+// Files are written atomically: into FILE.<unique>.tmp in the same folder, then renamed over FILE, so an
 // error never leaves a half-written file and never destroys a good older one.
 #include <filesystem>
 #include <string>
@@ -14,9 +14,13 @@
 
 namespace pilempm {
 
-/// Writes `content` to FILE.tmp next to `path`, then renames it over `path`. Throws Error (and
-/// removes the .tmp) when anything fails; `path` is then untouched.
+/// Writes `content` to a new temporary file next to `path` (temporary_path_for), then renames it
+/// over `path`. Throws Error (and removes the temporary file) when anything fails, a full disk
+/// included; `path` is then untouched.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
+/// A name for a temporary file next to `path` that no other write uses, not even one of another
+/// process or thread into the same folder: FILE.<process>-<count>.tmp.
+std::filesystem::path temporary_path_for(const std::filesystem::path& path);
 
 /// Creates the folder if needed and checks that a file can be created in it (throws Error).
 void prepare_output_directory(const std::filesystem::path& directory);

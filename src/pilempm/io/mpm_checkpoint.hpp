@@ -6,7 +6,8 @@
 // needs (the next phase, the particles' initial positions, the output records so far).
 // The materials are not stored: a restart takes them from the case file, so a checkpoint can be
 // continued with a different parameter set while every particle keeps its stress, void ratio and
-// intergranular strain. Files are written atomically (FILE.tmp, then renamed).
+// intergranular strain. Files are written atomically (FILE.<unique>.tmp, then renamed). Every dataset
+// carries a checksum, and HDF5's metadata its own: a damaged file is refused naming the dataset.
 #include <filesystem>
 #include <map>
 #include <string>
@@ -31,7 +32,7 @@ struct MpmCheckpointInfo {
 };
 
 /// The version of the file layout that write_mpm_checkpoint writes and read_mpm_checkpoint reads.
-inline constexpr int kMpmCheckpointFormatVersion = 1;
+inline constexpr int kMpmCheckpointFormatVersion = 2;
 
 /// Writes `solver` and `info` to `file` (HDF5), atomically. Throws Error naming the file when
 /// it cannot be written.

@@ -43,7 +43,19 @@ struct NumberRange {
   static constexpr double kInf = std::numeric_limits<double>::infinity();
 };
 
-/// The whole text of a case file; an unreadable file is an InputError naming it.
+/// Limits on what the reader accepts, checked before toml++ parses (it recurses once per level):
+/// the size of a file, the levels of one dotted key or table header, and the nesting of arrays and
+/// inline tables.
+inline constexpr std::size_t kMaxTomlBytes = std::size_t{16} << 20;
+inline constexpr int kMaxTomlKeyDepth = 32;
+inline constexpr int kMaxTomlBrackets = 32;
+
+/// Throws an InputError naming `source_name` and the line when `text` exceeds one of the limits
+/// above. Called by parse_toml_text.
+void check_toml_shape(std::string_view text, const std::string& source_name);
+
+/// The whole text of a case file; an unreadable file or one larger than kMaxTomlBytes is an
+/// InputError naming it.
 std::string read_case_text(const std::filesystem::path& path);
 /// Parses a TOML file; a syntax error or an unreadable file becomes an InputError with the line.
 toml::table parse_toml_file(const std::filesystem::path& path);

@@ -10,6 +10,7 @@
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/in_plane_rotation.hpp"
+#include "pilempm/mpm/thread_count.hpp"
 
 namespace pilempm::mpm {
 
@@ -128,8 +129,8 @@ Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
   if (settings_.geometry == Geometry::axisymmetric && grid_.x_axis().start() == 0.0)
     grid_.set_axis_of_symmetry(true);
 
-  threads_ = settings_.threads > 0 ? settings_.threads : omp_get_max_threads();
   const std::size_t count = particles_.size();
+  threads_ = settings_.threads > 0 ? settings_.threads : default_thread_count(count);
   stencils_.resize(count);
   start_radius_.resize(count);
   thread_grids_.resize(static_cast<std::size_t>(threads_));
