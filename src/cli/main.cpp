@@ -6,6 +6,8 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <string>
+#include <string_view>
 
 #include "cli/commands.hpp"
 #include "pilempm/core/error.hpp"
@@ -25,6 +27,22 @@ void use_short_openmp_spin_waits(char** argv) {
   ::execv("/proc/self/exe", argv);  // returns only when it failed: go on with the defaults
 }
 
+// An empty argument ("", or --flag= with nothing after it) is never a value pilempm takes: a
+// number would be read as 0 and a name as the default. It is an error naming the option.
+void reject_empty_arguments(int argc, char** argv) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string_view argument = argv[i];
+    const bool empty_inline = argument.starts_with("--") && argument.ends_with("=");
+    if (!argument.empty() && !empty_inline) continue;
+    const std::string option = empty_inline ? std::string(argument.substr(0, argument.size() - 1))
+                               : i > 1 && std::string_view(argv[i - 1]).starts_with("-")
+                                   ? std::string(argv[i - 1])
+                                   : fmt::format("argument {}", i);
+    throw pilempm::InputError("command line", 0, option, "\"\"",
+                              "an empty value is not allowed");
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -34,9 +52,14 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "pilempm 0.1.0");
   pilempm::cli::register_commands(app);
   try {
+    reject_empty_arguments(argc, argv);
     app.parse(argc, argv);  // the chosen subcommand runs in its callback
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    if (e.get_exit_code() == 0) return app.exit(e);  // --help, --version
+    // CLI11's own message, with what the user typed escaped (no raw control characters).
+    fmt::print(stderr, "pilempm: error: command line: {}\nRun with --help for more information.\n",
+               pilempm::message_text(e.what(), 400));
+    return e.get_exit_code();
   } catch (const pilempm::Error& e) {
     fmt::print(stderr, "pilempm: error: {}\n", e.what());
     return 2;

@@ -141,3 +141,60 @@ TEST(AnalyticCli, CsvOnAFullDiskIsAnErrorAndKeepsTheOldFile) {
 }
 
 }  // namespace
+
+namespace {
+
+// Empty values were taken as 0 (numbers) or the default (names).
+TEST(CommandLineValues, EmptyValuesAreRefusedNamingTheOption) {
+  for (const char* arguments :
+       {"analytic bolton --id \"\" --phi-c-deg 31 --p-kPa 100", "analytic bolton --id= "
+                                                                 "--phi-c-deg 31 --p-kPa 100",
+        "element triaxial --set original --igs none --e0 0.7 --e0-at initial-stress "
+        "--sigma3-kPa 100 --tolerance \"\""}) {
+    const CommandResult run = run_pilempm(arguments);
+    EXPECT_NE(run.exit_code, 0) << arguments << "\n" << run.output;
+    EXPECT_TRUE(contains(run.output, "empty value")) << arguments << "\n" << run.output;
+  }
+  const CommandResult id = run_pilempm("analytic bolton --id \"\" --phi-c-deg 31 --p-kPa 100");
+  EXPECT_TRUE(contains(id.output, "--id")) << id.output;
+}
+
+// Values that pass a plain range check but overflow once converted (1e306 kPa is infinite in Pa).
+TEST(CommandLineValues, ValuesThatOverflowInSiAreRefusedAtTheirOption) {
+  const CommandResult element =
+      run_pilempm("element triaxial --set original --igs none --e0 0.7 --e0-at initial-stress "
+                  "--sigma3-kPa 1e306");
+  EXPECT_NE(element.exit_code, 0) << element.output;
+  EXPECT_TRUE(contains(element.output, "--sigma3-kPa = 1e306: out of range")) << element.output;
+  const CommandResult bolton = run_pilempm("analytic bolton --id 0.5 --phi-c-deg 31 --p-kPa 1e306");
+  EXPECT_NE(bolton.exit_code, 0) << bolton.output;
+  EXPECT_TRUE(contains(bolton.output, "--p-kPa")) << bolton.output;
+  EXPECT_TRUE(contains(bolton.output, "magnitude")) << bolton.output;
+}
+
+TEST(CommandLineValues, ControlCharactersInValuesAreEscaped) {
+  const CommandResult run = run_pilempm("analytic bolton --id \"$(printf '\\033[31m')\" --phi-c-deg 31");
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  EXPECT_FALSE(contains(run.output, "\x1b")) << run.output;
+  EXPECT_TRUE(contains(run.output, "\\x1B[31m")) << run.output;
+}
+
+// 400 MPa lies beyond where Rohe's fit gives positive void ratios: formerly a negative e_d0
+// without a word.
+TEST(AnalyticCli, RoheSaysWhenAStressIsOutsideTheRangeOfValidity) {
+  const CommandResult run = run_pilempm("analytic rohe --sigma-v-MPa 10,400");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(contains(run.output, "warning: --sigma-v-MPa 400: outside the range of validity"))
+      << run.output;
+  std::istringstream lines(run.output);
+  std::string line;
+  int outside = 0;
+  while (std::getline(lines, line)) {
+    if (contains(line, "400") && contains(line, "outside the range of validity") &&
+        !contains(line, "warning"))
+      ++outside;
+  }
+  EXPECT_EQ(outside, 1) << run.output;
+}
+
+}  // namespace

@@ -21,14 +21,6 @@ const KeyMap kMohrCoulombKeys = {{"young_modulus_Pa", "young_modulus_MPa"},
                                  {"tension_cutoff_Pa", "tension_cutoff_kPa"}};
 const KeyMap kElasticKeys = {{"young_modulus_Pa", "young_modulus_MPa"}};
 
-bool safe_name(const std::string& name) {
-  if (name.empty() || name.size() > 100) return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ||
-           c == '+';
-  });
-}
-
 // Reads `key` into `value`: required when `required`, else an optional override.
 void read_into(TableReader& t, std::string_view key, double& value, const NumberRange& range,
                bool required, double scale = 1.0) {
@@ -244,10 +236,8 @@ void MaterialCatalog::read(TableReader& root) {
   if (auto integrator = root.table("integrator")) integrator_ = read_integrator(*integrator);
   for (TableReader& t : root.tables("material")) {
     MaterialSpec m;
-    m.name = t.string("name");
-    if (!safe_name(m.name))
-      throw t.error("name",
-                    "not allowed: must be 1 to 100 letters, digits and the characters - _ . +");
+    if (!t.contains("name")) (void)t.string("name");  // the error for a missing name
+    m.name = t.name_or("name", "");
     if (find(m.name) != nullptr)
       throw t.error("name", find(m.name)->builtin
                                 ? "already the name of a built-in set: choose another name "

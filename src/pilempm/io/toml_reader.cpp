@@ -54,10 +54,21 @@ InputError parse_error_to_input_error(const toml::parse_error& e, const std::str
 }  // namespace
 
 bool NumberRange::contains(double value) const {
-  if (!std::isfinite(value)) return false;
-  if (lower_open ? !(value > lower) : !(value >= lower)) return false;
-  if (upper_open ? !(value < upper) : !(value <= upper)) return false;
-  return true;
+  return problem(value).empty();
+}
+
+std::string NumberRange::problem(double value) const {
+  const bool inside = std::isfinite(value) &&
+                      (lower_open ? value > lower : value >= lower) &&
+                      (upper_open ? value < upper : value <= upper);
+  if (!inside) return fmt::format("out of range: must be {}", describe());
+  const double magnitude = std::fabs(value);
+  if (magnitude > kMaxMagnitude || (magnitude > 0.0 && magnitude < 1.0 / kMaxMagnitude))
+    return fmt::format(
+        "out of range: must be 0 or of a magnitude in [1e-100, 1e+100] (it is multiplied by "
+        "units and other values), and {}",
+        describe());
+  return {};
 }
 
 std::string NumberRange::describe() const {
@@ -366,9 +377,8 @@ double TableReader::to_number(std::string_view key, const toml::node& node,
     throw InputError(file_, line, label, toml_text(node),
                      fmt::format("wrong type: expected a number, got {}", toml_type_name(node)));
   }
-  if (!range.contains(value))
-    throw InputError(file_, line, label, toml_text(node),
-                     fmt::format("out of range: must be {}", range.describe()));
+  if (const std::string problem = range.problem(value); !problem.empty())
+    throw InputError(file_, line, label, toml_text(node), problem);
   (void)key;
   return value;
 }
@@ -422,6 +432,24 @@ std::optional<std::string> TableReader::optional_string(std::string_view key) {
   const auto* s = n->as_string();
   if (s == nullptr) wrong_type(key, *n, "a string");
   return s->get();
+}
+
+bool is_safe_name(std::string_view name) {
+  if (name.empty() || name.size() > kMaxNameLength) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ||
+           c == '+';
+  });
+}
+
+std::string TableReader::name_or(std::string_view key, const std::string& fallback) {
+  std::optional<std::string> name = optional_string(key);
+  if (!name) return fallback;
+  if (!is_safe_name(*name))
+    throw error(key, fmt::format("not allowed: must be 1 to {} letters, digits and the characters "
+                                 "- _ . +",
+                                 kMaxNameLength));
+  return *name;
 }
 
 std::string TableReader::string(std::string_view key) {

@@ -35,12 +35,18 @@ struct NumberRange {
   static NumberRange closed(double a, double b) { return {a, b, false, false}; }
   static NumberRange left_open(double a, double b) { return {a, b, true, false}; }  // (a, b]
 
-  /// Finite and inside the interval.
+  /// Finite, inside the interval, and of a sane magnitude (kMaxMagnitude).
   bool contains(double value) const;
+  /// "" when contains(value), else why not: "out of range: must be ..." or the magnitude rule.
+  std::string problem(double value) const;
   /// "> 0", ">= 1", "in (0, 1)", "in (0, 0.1]", "any finite number".
   std::string describe() const;
 
   static constexpr double kInf = std::numeric_limits<double>::infinity();
+  /// Every number read is 0 or of a magnitude in [1/kMaxMagnitude, kMaxMagnitude], whatever its
+  /// range: values are multiplied by units and by one another (a pressure in kPa of 1e306 is
+  /// infinite in Pa, a speed of 5e-324 m/s an infinite duration), and no input means more.
+  static constexpr double kMaxMagnitude = 1e100;
 };
 
 /// Limits on what the reader accepts, checked before toml++ parses (it recurses once per level):
@@ -104,6 +110,9 @@ class TableReader {
 
   std::string string(std::string_view key);
   std::optional<std::string> optional_string(std::string_view key);
+  /// A name (of a phase, region, body, material): is_safe_name, else an error at the key; the
+  /// fallback when absent.
+  std::string name_or(std::string_view key, const std::string& fallback);
   /// A string out of a fixed list (the message lists them).
   std::string choice(std::string_view key, const std::vector<std::string>& allowed);
   std::optional<std::string> optional_choice(std::string_view key,
@@ -151,6 +160,11 @@ class TableReader {
   std::string path_;
   std::set<std::string, std::less<>> asked_;
 };
+
+/// Names end up in file names, messages and tables: 1 to kMaxNameLength letters, digits and the
+/// characters - _ . +
+inline constexpr std::size_t kMaxNameLength = 100;
+bool is_safe_name(std::string_view name);
 
 /// TOML text of a node, as it would be written in a file (strings quoted).
 std::string toml_text(const toml::node& node);
