@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -192,6 +193,37 @@ const char* kind_name(Outcome::Kind kind) {
   }
 }
 
+using Clock = std::chrono::steady_clock;
+
+// Reads `fd` into `out` until it closes (true) or the deadline passes (false).
+bool read_until_closed(int fd, Clock::time_point deadline, std::string& out) {
+  char buffer[4096];
+  while (true) {
+    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    if (left.count() <= 0) return false;
+    pollfd ready{fd, POLLIN, 0};
+    if (::poll(&ready, 1, static_cast<int>(left.count())) <= 0) continue;
+    const ssize_t n = ::read(fd, buffer, sizeof buffer);
+    if (n <= 0) return true;
+    out.append(buffer, static_cast<std::size_t>(n));
+  }
+}
+
+// The wait status of `child` once it ends, or nothing when the deadline passes first (it is
+// killed then).
+std::optional<int> wait_until(pid_t child, Clock::time_point deadline) {
+  int status = 0;
+  while (::waitpid(child, &status, WNOHANG) != child) {
+    if (Clock::now() > deadline) {
+      ::kill(child, SIGKILL);
+      ::waitpid(child, nullptr, 0);
+      return std::nullopt;
+    }
+    ::usleep(1000);
+  }
+  return status;
+}
+
 // Runs `body` in a child process with a time limit and 4 GiB of memory: its pilempm::Error's
 // message comes back; anything else is reported as such.
 Outcome run_isolated(const std::function<void()>& body, int seconds) {
@@ -224,37 +256,12 @@ Outcome run_isolated(const std::function<void()>& body, int seconds) {
   }
   ::close(pipe_ends[1]);
   Outcome outcome;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-  char buffer[4096];
-  bool open = true;
-  while (open) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      ::kill(child, SIGKILL);
-      ::waitpid(child, nullptr, 0);
-      ::close(pipe_ends[0]);
-      return {Outcome::hung, 0, outcome.message};
-    }
-    pollfd fd{pipe_ends[0], POLLIN, 0};
-    if (::poll(&fd, 1, static_cast<int>(left.count())) <= 0) continue;
-    const ssize_t n = ::read(pipe_ends[0], buffer, sizeof buffer);
-    if (n <= 0) open = false;
-    else outcome.message.append(buffer, static_cast<std::size_t>(n));
-  }
+  const auto deadline = Clock::now() + std::chrono::seconds(seconds);
+  const bool closed = read_until_closed(pipe_ends[0], deadline, outcome.message);
   ::close(pipe_ends[0]);
-  int status = 0;
-  // The pipe closed: the child is ending (it may still be killed by the limit meanwhile).
-  while (true) {
-    const pid_t done = ::waitpid(child, &status, WNOHANG);
-    if (done == child) break;
-    if (std::chrono::steady_clock::now() > deadline) {
-      ::kill(child, SIGKILL);
-      ::waitpid(child, nullptr, 0);
-      return {Outcome::hung, 0, outcome.message};
-    }
-    ::usleep(1000);
-  }
+  const std::optional<int> ended = wait_until(child, closed ? deadline : Clock::now());
+  if (!ended) return {Outcome::hung, 0, outcome.message};
+  const int status = *ended;
   if (WIFSIGNALED(status)) return {Outcome::signalled, WTERMSIG(status), outcome.message};
   const int code = WEXITSTATUS(status);
   outcome.kind = code == 0 ? Outcome::accepted : code == 1 ? Outcome::rejected
@@ -363,27 +370,15 @@ CommandOutcome run_program(const std::vector<std::string>& arguments, int second
   }
   ::close(pipe_ends[1]);
   CommandOutcome outcome{Outcome::accepted, 0, ""};
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-  char buffer[4096];
-  while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(
-        deadline - std::chrono::steady_clock::now());
-    if (left.count() <= 0) {
-      ::kill(child, SIGKILL);
-      ::waitpid(child, nullptr, 0);
-      ::close(pipe_ends[0]);
-      outcome.kind = Outcome::hung;
-      return outcome;
-    }
-    pollfd fd{pipe_ends[0], POLLIN, 0};
-    if (::poll(&fd, 1, static_cast<int>(left.count())) <= 0) continue;
-    const ssize_t n = ::read(pipe_ends[0], buffer, sizeof buffer);
-    if (n <= 0) break;
-    outcome.output.append(buffer, static_cast<std::size_t>(n));
-  }
+  const auto deadline = Clock::now() + std::chrono::seconds(seconds);
+  const bool closed = read_until_closed(pipe_ends[0], deadline, outcome.output);
   ::close(pipe_ends[0]);
-  int status = 0;
-  ::waitpid(child, &status, 0);
+  const std::optional<int> ended = wait_until(child, closed ? deadline : Clock::now());
+  if (!ended) {
+    outcome.kind = Outcome::hung;
+    return outcome;
+  }
+  const int status = *ended;
   if (WIFSIGNALED(status)) {
     outcome.kind = Outcome::signalled;
     outcome.status = WTERMSIG(status);
@@ -429,7 +424,7 @@ void fuzz_command_line(int inputs, std::uint64_t seed) {
       const std::size_t i = random.pick(values);
       static const std::vector<std::string> bad = {
           "", " ", "0", "-1", "1e300", "-1e300", "1e306", "5e-324", "nan", "inf", "-inf", "1,",
-          ",", "1,,2", "abc", "0x10", "1e", "--", "-", "\x1b[31m", std::string(300, '9'),
+          ",", "1,,2", "abc", "0x10", "1e", "\x1b[31m", std::string(300, '9'),
           "\xFF\xFE", "400", "2147483648", "-2147483649", "0.0", "1e-300", "1,nan"};
       arguments[i] = random.pick(bad);
       changed = arguments[i - 1];

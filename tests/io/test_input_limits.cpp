@@ -42,6 +42,7 @@ y_min_m = 0.0
 y_max_m = 0.5
 particles_per_cell = 2
 density_kg_per_m3 = 1800.0
+initial_stress = "zero"
 material = "soil"
 [[phase]]
 name = "settle"
@@ -86,14 +87,14 @@ TEST(MpmInputLimits, TractionOf1e306KPaIsRefusedAtItsKey) {
   const std::string text = std::string(kMpmCase) +
                            "[[traction]]\nregion = \"block\"\nside = \"top\"\nnormal_kPa = 1e306\n";
   const std::string message = mpm_error(text);
-  EXPECT_TRUE(has(message, "case.toml:38: traction[0].normal_kPa = 1e+306")) << message;
+  EXPECT_TRUE(has(message, "case.toml:39: traction[0].normal_kPa = 1e+306")) << message;
 }
 
 TEST(MpmInputLimits, InitialVelocityOf1e300IsRefusedAtItsKey) {
   const std::string message =
       mpm_error(with(kMpmCase, "material = \"soil\"\n[[phase]]",
                      "material = \"soil\"\nvelocity_x_m_per_s = 1e300\n[[phase]]"));
-  EXPECT_TRUE(has(message, "case.toml:31: region[0].velocity_x_m_per_s = 1e+300")) << message;
+  EXPECT_TRUE(has(message, "case.toml:32: region[0].velocity_x_m_per_s = 1e+300")) << message;
   EXPECT_TRUE(has(message, "in [-10000, 10000]")) << message;
 }
 
@@ -109,7 +110,7 @@ TEST(MpmInputLimits, LongPhaseNameIsRefusedBeforeTheRun) {
   // A 300-character phase name ran the phase, then could not write its checkpoint.
   const std::string message =
       mpm_error(with(kMpmCase, "name = \"settle\"", "name = \"" + std::string(300, 'p') + "\""));
-  EXPECT_TRUE(has(message, "case.toml:32: phase[0].name")) << message;
+  EXPECT_TRUE(has(message, "case.toml:33: phase[0].name")) << message;
   EXPECT_TRUE(has(message, "1 to 100 letters")) << message;
   EXPECT_LT(message.size(), 400u) << message;  // the value is cut
   const std::string slash = mpm_error(with(kMpmCase, "name = \"block\"", "name = \"a/b\""));

@@ -66,8 +66,8 @@ std::string NumberRange::problem(double value) const {
   if (magnitude > kMaxMagnitude || (magnitude > 0.0 && magnitude < 1.0 / kMaxMagnitude))
     return fmt::format(
         "out of range: must be 0 or of a magnitude in [1e-100, 1e+100] (it is multiplied by "
-        "units and other values), and {}",
-        describe());
+        "units and other values){}",
+        std::isfinite(lower) || std::isfinite(upper) ? ", and " + describe() : std::string());
   return {};
 }
 
