@@ -233,11 +233,11 @@ void register_rohe(CLI::App& analytic) {
           [&] { return rohe_reference_void_ratios(sigma_v_MPa * kPascalPerMegapascal); });
       // The fit means something only while the void ratios are positive and ordered
       // e_d0 < e_c0 < e_i0 (beyond about 375 MPa e_d0 turns negative).
-      const bool valid = result.e_d0 > 0.0 && result.e_d0 < result.e_c0 && result.e_c0 < result.e_i0;
+      const bool valid =
+          result.e_d0 > 0.0 && result.e_d0 < result.e_c0 && result.e_c0 < result.e_i0;
       if (!valid) outside.push_back(format_value(sigma_v_MPa));
       table.add_row({input_value(sigma_v_MPa), number(result.e_c0, 4), number(result.e_d0, 4),
-                     number(result.e_i0, 4),
-                     text(valid ? "ok" : "outside the range of validity")});
+                     number(result.e_i0, 4), text(valid ? "ok" : "outside the range of validity")});
     }
     if (!outside.empty())
       fmt::print(stderr,

@@ -21,8 +21,7 @@ namespace {
 // reads its settings before main, so the program sets the variable and starts itself again;
 // a user's own OMP_WAIT_POLICY or GOMP_SPINCOUNT is left as it is.
 void use_short_openmp_spin_waits(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr)
-    return;
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
   if (::setenv("GOMP_SPINCOUNT", "10000", 0) != 0) return;
   ::execv("/proc/self/exe", argv);  // returns only when it failed: go on with the defaults
 }
@@ -38,8 +37,7 @@ void reject_empty_arguments(int argc, char** argv) {
                                : i > 1 && std::string_view(argv[i - 1]).starts_with("-")
                                    ? std::string(argv[i - 1])
                                    : fmt::format("argument {}", i);
-    throw pilempm::InputError("command line", 0, option, "\"\"",
-                              "an empty value is not allowed");
+    throw pilempm::InputError("command line", 0, option, "\"\"", "an empty value is not allowed");
   }
 }
 

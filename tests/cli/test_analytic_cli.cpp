@@ -147,8 +147,9 @@ namespace {
 // Empty values were taken as 0 (numbers) or the default (names).
 TEST(CommandLineValues, EmptyValuesAreRefusedNamingTheOption) {
   for (const char* arguments :
-       {"analytic bolton --id \"\" --phi-c-deg 31 --p-kPa 100", "analytic bolton --id= "
-                                                                 "--phi-c-deg 31 --p-kPa 100",
+       {"analytic bolton --id \"\" --phi-c-deg 31 --p-kPa 100",
+        "analytic bolton --id= "
+        "--phi-c-deg 31 --p-kPa 100",
         "element triaxial --set original --igs none --e0 0.7 --e0-at initial-stress "
         "--sigma3-kPa 100 --tolerance \"\""}) {
     const CommandResult run = run_pilempm(arguments);
@@ -161,9 +162,9 @@ TEST(CommandLineValues, EmptyValuesAreRefusedNamingTheOption) {
 
 // Values that pass a plain range check but overflow once converted (1e306 kPa is infinite in Pa).
 TEST(CommandLineValues, ValuesThatOverflowInSiAreRefusedAtTheirOption) {
-  const CommandResult element =
-      run_pilempm("element triaxial --set original --igs none --e0 0.7 --e0-at initial-stress "
-                  "--sigma3-kPa 1e306");
+  const CommandResult element = run_pilempm(
+      "element triaxial --set original --igs none --e0 0.7 --e0-at initial-stress "
+      "--sigma3-kPa 1e306");
   EXPECT_NE(element.exit_code, 0) << element.output;
   EXPECT_TRUE(contains(element.output, "--sigma3-kPa = 1e306: out of range")) << element.output;
   const CommandResult bolton = run_pilempm("analytic bolton --id 0.5 --phi-c-deg 31 --p-kPa 1e306");
@@ -173,7 +174,8 @@ TEST(CommandLineValues, ValuesThatOverflowInSiAreRefusedAtTheirOption) {
 }
 
 TEST(CommandLineValues, ControlCharactersInValuesAreEscaped) {
-  const CommandResult run = run_pilempm("analytic bolton --id \"$(printf '\\033[31m')\" --phi-c-deg 31");
+  const CommandResult run =
+      run_pilempm("analytic bolton --id \"$(printf '\\033[31m')\" --phi-c-deg 31");
   EXPECT_NE(run.exit_code, 0) << run.output;
   EXPECT_FALSE(contains(run.output, "\x1b")) << run.output;
   EXPECT_TRUE(contains(run.output, "\\x1B[31m")) << run.output;

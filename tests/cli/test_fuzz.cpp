@@ -72,12 +72,37 @@ std::string read_text(const fs::path& path) {
 // Values that have broken programs before: extremes, non-numbers, empty and long text, control
 // characters, broken UTF-8, deep nesting.
 const std::vector<std::string>& awkward_values() {
-  static const std::vector<std::string> values = {
-      "0", "-0.0", "-1", "1", "1e300", "-1e300", "1e306", "5e-324", "1e-300", "nan", "inf",
-      "-inf", "9223372036854775807", "-9223372036854775808", "2147483648", "4294967297",
-      "0.5", "1e-12", "true", "\"\"", "\"x\"", "[]", "[1, 2]", "{}", "\"\\u001b[31mred\"",
-      "\"" + std::string(300, 'a') + "\"", "\"\xC3\xA9\xE2\x82\xAC\"", "'\xFF\xFE'",
-      "1979-05-27T07:32:00Z", "[[[[[[[[1]]]]]]]]", "\"" + std::string(70, '\x01') + "\""};
+  static const std::vector<std::string> values = {"0",
+                                                  "-0.0",
+                                                  "-1",
+                                                  "1",
+                                                  "1e300",
+                                                  "-1e300",
+                                                  "1e306",
+                                                  "5e-324",
+                                                  "1e-300",
+                                                  "nan",
+                                                  "inf",
+                                                  "-inf",
+                                                  "9223372036854775807",
+                                                  "-9223372036854775808",
+                                                  "2147483648",
+                                                  "4294967297",
+                                                  "0.5",
+                                                  "1e-12",
+                                                  "true",
+                                                  "\"\"",
+                                                  "\"x\"",
+                                                  "[]",
+                                                  "[1, 2]",
+                                                  "{}",
+                                                  "\"\\u001b[31mred\"",
+                                                  "\"" + std::string(300, 'a') + "\"",
+                                                  "\"\xC3\xA9\xE2\x82\xAC\"",
+                                                  "'\xFF\xFE'",
+                                                  "1979-05-27T07:32:00Z",
+                                                  "[[[[[[[[1]]]]]]]]",
+                                                  "\"" + std::string(70, '\x01') + "\""};
   return values;
 }
 
@@ -118,7 +143,8 @@ std::string mutate_text(std::string text, Random& random) {
       return join();
     }
     case 4:  // a line removed
-      if (!lines.empty()) lines.erase(lines.begin() + static_cast<long>(random.below(lines.size())));
+      if (!lines.empty())
+        lines.erase(lines.begin() + static_cast<long>(random.below(lines.size())));
       return join();
     case 5: {  // a line repeated somewhere else
       if (lines.empty()) break;
@@ -199,7 +225,8 @@ using Clock = std::chrono::steady_clock;
 bool read_until_closed(int fd, Clock::time_point deadline, std::string& out) {
   char buffer[4096];
   while (true) {
-    const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+    const auto left =
+        std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
     if (left.count() <= 0) return false;
     pollfd ready{fd, POLLIN, 0};
     if (::poll(&ready, 1, static_cast<int>(left.count())) <= 0) continue;
@@ -264,8 +291,9 @@ Outcome run_isolated(const std::function<void()>& body, int seconds) {
   const int status = *ended;
   if (WIFSIGNALED(status)) return {Outcome::signalled, WTERMSIG(status), outcome.message};
   const int code = WEXITSTATUS(status);
-  outcome.kind = code == 0 ? Outcome::accepted : code == 1 ? Outcome::rejected
-                                                            : Outcome::foreign_error;
+  outcome.kind = code == 0   ? Outcome::accepted
+                 : code == 1 ? Outcome::rejected
+                             : Outcome::foreign_error;
   return outcome;
 }
 
@@ -278,7 +306,8 @@ struct CaseKind {
 
 std::vector<CaseKind> case_kinds() {
   return {
-      {"element", {"element_tests.toml"},
+      {"element",
+       {"element_tests.toml"},
        [](const std::string& text, const std::string& source) {
          (void)parse_element_case(text, source);
        }},
@@ -320,20 +349,21 @@ void fuzz_case_files(int inputs_per_kind, std::uint64_t seed) {
       std::string text = seeds[which];
       const int mutations = 1 + static_cast<int>(random.below(3));
       for (int m = 0; m < mutations; ++m) text = mutate_text(text, random);
-      const std::string source = std::string("fuzz/") + kind.name + "-" + std::to_string(k) + ".toml";
+      const std::string source =
+          std::string("fuzz/") + kind.name + "-" + std::to_string(k) + ".toml";
       const Outcome outcome = run_isolated([&] { kind.check(text, source); }, 20);
       ++counts[outcome.kind];
       const bool names_file = outcome.message.find(source) != std::string::npos;
       if (outcome.kind == Outcome::accepted || (outcome.kind == Outcome::rejected && names_file))
         continue;
       ++failures;
-      ADD_FAILURE() << kind.name << " input " << k << " (from " << kind.files[which] << "): "
-                    << kind_name(outcome.kind)
+      ADD_FAILURE() << kind.name << " input " << k << " (from " << kind.files[which]
+                    << "): " << kind_name(outcome.kind)
                     << (outcome.kind == Outcome::signalled ? " " + std::to_string(outcome.signal)
                                                            : std::string())
                     << (outcome.kind == Outcome::rejected ? " without naming the file" : "")
-                    << "\n  message: " << outcome.message.substr(0, 500)
-                    << "\n  input kept in " << keep(text, source.substr(5));
+                    << "\n  message: " << outcome.message.substr(0, 500) << "\n  input kept in "
+                    << keep(text, source.substr(5));
     }
     std::printf("[ fuzz %s ] %d inputs: %d accepted, %d rejected naming the file, %d other\n",
                 kind.name, counts[0] + counts[1] + counts[2] + counts[3] + counts[4], counts[0],
@@ -384,7 +414,7 @@ CommandOutcome run_program(const std::vector<std::string>& arguments, int second
     outcome.status = WTERMSIG(status);
   } else {
     outcome.status = WEXITSTATUS(status);
-    outcome.kind = outcome.status == 0 ? Outcome::accepted
+    outcome.kind = outcome.status == 0   ? Outcome::accepted
                    : outcome.status == 3 ? Outcome::foreign_error  // "internal error"
                                          : Outcome::rejected;
   }
@@ -398,12 +428,12 @@ std::vector<std::vector<std::string>> base_command_lines() {
       {"analytic", "bolton", "--id", "0.95", "--phi-c-deg", "31", "--p-kPa", "100,1000"},
       {"analytic", "rohe", "--sigma-v-MPa", "0.1,1,10"},
       {"analytic", "alpha", "--e0", "0.7", "--p-kPa", "100,1000"},
-      {"element", "triaxial", "--set", "original", "--igs", "none", "--e0", "0.7", "--e0-at", "initial-stress",
-       "--sigma3-kPa", "100", "--axial-strain", "0.05", "--steps", "200"},
-      {"element", "oedometer", "--set", "original", "--igs", "none", "--e0", "0.7", "--e0-at", "initial-stress",
-       "--sigma-v0-kPa", "10", "--sigma-v-kPa", "100,10", "--steps", "200"},
-      {"element", "isotropic", "--set", "original", "--igs", "none", "--e0", "0.7", "--e0-at", "initial-stress",
-       "--p0-kPa", "10", "--p-end-kPa", "1000", "--steps", "200"},
+      {"element", "triaxial", "--set", "original", "--igs", "none", "--e0", "0.7", "--e0-at",
+       "initial-stress", "--sigma3-kPa", "100", "--axial-strain", "0.05", "--steps", "200"},
+      {"element", "oedometer", "--set", "original", "--igs", "none", "--e0", "0.7", "--e0-at",
+       "initial-stress", "--sigma-v0-kPa", "10", "--sigma-v-kPa", "100,10", "--steps", "200"},
+      {"element", "isotropic", "--set", "original", "--igs", "none", "--e0", "0.7", "--e0-at",
+       "initial-stress", "--p0-kPa", "10", "--p-end-kPa", "1000", "--steps", "200"},
       {"centrifuge", "case", quick},
   };
 }
@@ -422,10 +452,32 @@ void fuzz_command_line(int inputs, std::uint64_t seed) {
     std::string changed;  // the option whose value changed: the message must name it
     if (!values.empty() && random.below(4) != 0) {
       const std::size_t i = random.pick(values);
-      static const std::vector<std::string> bad = {
-          "", " ", "0", "-1", "1e300", "-1e300", "1e306", "5e-324", "nan", "inf", "-inf", "1,",
-          ",", "1,,2", "abc", "0x10", "1e", "\x1b[31m", std::string(300, '9'),
-          "\xFF\xFE", "400", "2147483648", "-2147483649", "0.0", "1e-300", "1,nan"};
+      static const std::vector<std::string> bad = {"",
+                                                   " ",
+                                                   "0",
+                                                   "-1",
+                                                   "1e300",
+                                                   "-1e300",
+                                                   "1e306",
+                                                   "5e-324",
+                                                   "nan",
+                                                   "inf",
+                                                   "-inf",
+                                                   "1,",
+                                                   ",",
+                                                   "1,,2",
+                                                   "abc",
+                                                   "0x10",
+                                                   "1e",
+                                                   "\x1b[31m",
+                                                   std::string(300, '9'),
+                                                   "\xFF\xFE",
+                                                   "400",
+                                                   "2147483648",
+                                                   "-2147483649",
+                                                   "0.0",
+                                                   "1e-300",
+                                                   "1,nan"};
       arguments[i] = random.pick(bad);
       changed = arguments[i - 1];
     } else if (random.below(2) == 0 && !values.empty()) {  // an option and its value left out
@@ -444,15 +496,15 @@ void fuzz_command_line(int inputs, std::uint64_t seed) {
     for (const auto& a : arguments) line += " '" + a + "'";
     const bool named = changed.empty() || outcome.output.find(changed) != std::string::npos;
     const bool clean =
-        outcome.kind == Outcome::accepted ||
-        (outcome.kind == Outcome::rejected && named && outcome.output.find('\x1b') == std::string::npos);
+        outcome.kind == Outcome::accepted || (outcome.kind == Outcome::rejected && named &&
+                                              outcome.output.find('\x1b') == std::string::npos);
     if (clean) continue;
     ++failures;
     ADD_FAILURE() << "pilempm" << line << ": " << kind_name(outcome.kind) << " (status "
                   << outcome.status << ")"
-                  << (outcome.kind == Outcome::rejected ? " without naming " + changed +
-                                                              " or with a raw control character"
-                                                        : std::string())
+                  << (outcome.kind == Outcome::rejected
+                          ? " without naming " + changed + " or with a raw control character"
+                          : std::string())
                   << "\n  output: " << outcome.output.substr(0, 600);
   }
   std::printf("[ fuzz command line ] %d runs: %d accepted, %d rejected, %d other\n", inputs,

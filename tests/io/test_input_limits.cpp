@@ -145,8 +145,8 @@ TEST(CentrifugeInputLimits, CaseRefusesATinyJackingSpeedAtTheUsersKey) {
   // `centrifuge case` took 5e-324 m/s; `centrifuge run` then refused it as
   // "mpm_case.toml:103 phase[1].duration_s", a file and key the user never wrote.
   (void)read_centrifuge_case_text(kCentrifugeCase, "user.toml");  // the base case is valid
-  const std::string message =
-      centrifuge_error(with(kCentrifugeCase, "velocity_m_per_s = 0.025", "velocity_m_per_s = 5e-324"));
+  const std::string message = centrifuge_error(
+      with(kCentrifugeCase, "velocity_m_per_s = 0.025", "velocity_m_per_s = 5e-324"));
   EXPECT_TRUE(has(message, "user.toml:9: installation.velocity_m_per_s = 5e-324")) << message;
   EXPECT_FALSE(has(message, "mpm_case.toml")) << message;
 }

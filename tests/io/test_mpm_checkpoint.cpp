@@ -136,6 +136,13 @@ bool has_temporary_file(const fs::path& file) {
   return false;
 }
 
+std::string read_bytes(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
 // Bitwise equality of two values (NaN included), with the first differing index in the message.
 template <class T>
 ::testing::AssertionResult same_bits(const std::vector<T>& a, const std::vector<T>& b) {
@@ -421,13 +428,7 @@ TEST(MpmCheckpoint, DamagedOrForeignFileIsAnInputError) {
   const fs::path whole = temp_file("whole.h5");
   const fs::path cut = temp_file("cut.h5");
   write_mpm_checkpoint(whole, solver, sample_info(solver));
-  std::string bytes;
-  {
-    std::ifstream in(whole, std::ios::binary);
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    bytes = buffer.str();
-  }
+  const std::string bytes = read_bytes(whole);
   std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   expect_rejected(cut, solver, cut.string());
   fs::remove(text);
@@ -446,13 +447,7 @@ TEST(MpmCheckpoint, FlippedBitsAreRefusedOrChangeNothing) {
   const fs::path whole = temp_file("flip-whole.h5");
   const fs::path damaged = temp_file("flip-damaged.h5");
   write_mpm_checkpoint(whole, written, info);
-  std::string bytes;
-  {
-    std::ifstream in(whole, std::ios::binary);
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    bytes = buffer.str();
-  }
+  const std::string bytes = read_bytes(whole);
   std::uint64_t seed = 2025;
   const auto next = [&seed]() {  // a 64-bit linear congruential generator (Knuth's MMIX)
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -492,9 +487,10 @@ TEST(MpmCheckpoint, FlippedBitsAreRefusedOrChangeNothing) {
       }
     }
   }
-  std::printf("[ bit flips ] %d trials on %zu bytes: %d refused (%d by a dataset's checksum), %d "
-              "accepted unchanged\n",
-              trials, bytes.size(), refused, named_dataset, unchanged);
+  std::printf(
+      "[ bit flips ] %d trials on %zu bytes: %d refused (%d by a dataset's checksum), %d "
+      "accepted unchanged\n",
+      trials, bytes.size(), refused, named_dataset, unchanged);
   EXPECT_GT(named_dataset, 0);
   fs::remove(whole);
   fs::remove(damaged);
@@ -507,13 +503,7 @@ TEST(MpmCheckpoint, DamagedDatasetIsRefusedNamingIt) {
   run_steps(written, 5);
   const fs::path file = temp_file("stress-damaged.h5");
   write_mpm_checkpoint(file, written, sample_info(written));
-  std::string bytes;
-  {
-    std::ifstream in(file, std::ios::binary);
-    std::ostringstream buffer;
-    buffer << in.rdbuf();
-    bytes = buffer.str();
-  }
+  std::string bytes = read_bytes(file);
   const Particles& p = written.particles();
   const std::size_t last = p.size() - 1;
   std::string needle(6 * sizeof(double), '\0');

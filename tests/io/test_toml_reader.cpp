@@ -149,8 +149,9 @@ std::string dotted_key(int levels) {
 TEST(TomlLimits, DeepDottedKeysAndHeadersAreRefusedWithFileAndLine) {
   for (const int levels : {40, 13000, 40000}) {
     const std::string key = dotted_key(levels);
-    for (const std::string& text : {"a = 1\n" + key + " = 1\n", "a = 1\n[" + key + "]\nb = 2\n",
-                                    "a = 1\n[[" + key + "]]\n", "a = 1\nb = { " + key + " = 1 }\n"}) {
+    for (const std::string& text :
+         {"a = 1\n" + key + " = 1\n", "a = 1\n[" + key + "]\nb = 2\n", "a = 1\n[[" + key + "]]\n",
+          "a = 1\nb = { " + key + " = 1 }\n"}) {
       try {
         const toml::table doc = parse_toml_text(text, "deep.toml");
         TableReader r(doc, "deep.toml", "");
@@ -168,10 +169,10 @@ TEST(TomlLimits, DeepDottedKeysAndHeadersAreRefusedWithFileAndLine) {
 TEST(TomlLimits, KeysUpToTheLimitAndDotsInStringsAndNumbersAreAccepted) {
   const std::string key = dotted_key(kMaxTomlKeyDepth);
   const std::string dots(5000, '.');
-  const toml::table doc = parse_toml_text(key + " = 1.5\ns = \"" + dots + "\"\nt = '''\n" + dots +
-                                              "\n'''\n# " + dots + "\nv = [1.5, 2.5, 3.5]\n" +
-                                              "d = 1979-05-27T07:32:00.999\n",
-                                          "ok.toml");
+  const toml::table doc =
+      parse_toml_text(key + " = 1.5\ns = \"" + dots + "\"\nt = '''\n" + dots + "\n'''\n# " + dots +
+                          "\nv = [1.5, 2.5, 3.5]\n" + "d = 1979-05-27T07:32:00.999\n",
+                      "ok.toml");
   EXPECT_EQ(doc["s"].value<std::string>()->size(), dots.size());
   const toml::node* leaf = &doc;
   for (int i = 0; i < kMaxTomlKeyDepth; ++i) leaf = leaf->as_table()->get("x");
@@ -209,8 +210,7 @@ TEST(TomlText, LongValuesAreCutAndControlCharactersEscapedInMessages) {
   // the terminal.
   std::string value;
   for (int i = 0; i < 100; ++i) value += "\xE2\x82\xAC";  // the euro sign
-  const toml::table doc =
-      parse_toml_text("name = \"\\u001b[31m" + value + "\"\n", "f.toml");
+  const toml::table doc = parse_toml_text("name = \"\\u001b[31m" + value + "\"\n", "f.toml");
   TableReader r(doc, "f.toml", "");
   const std::string message = error_of([&] { r.check_no_unknown_keys(); }).what();
   EXPECT_EQ(message.find('\x1b'), std::string::npos) << message;

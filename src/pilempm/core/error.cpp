@@ -12,9 +12,9 @@ std::string message_text(std::string_view text, std::size_t max_characters) {
     if (characters == max_characters) return out + "...";
     const auto byte = static_cast<unsigned char>(text[i]);
     // The length of the UTF-8 sequence this byte starts (0: not a lead byte).
-    const std::size_t length = byte < 0x80                ? 1
-                               : (byte >> 5) == 0x6 && byte >= 0xC2 ? 2
-                               : (byte >> 4) == 0xE                 ? 3
+    const std::size_t length = byte < 0x80                           ? 1
+                               : (byte >> 5) == 0x6 && byte >= 0xC2  ? 2
+                               : (byte >> 4) == 0xE                  ? 3
                                : (byte >> 3) == 0x1E && byte <= 0xF4 ? 4
                                                                      : 0;
     bool valid = length > 0 && i + length <= text.size();
@@ -54,8 +54,7 @@ std::string input_message(const std::string& file, long line, const std::string&
   if (line > 0) where += fmt::format(":{}", line);
   if (key.empty()) return fmt::format("{}: {}", where, reason);
   if (value.empty()) return fmt::format("{}: {}: {}", where, message_text(key, 200), reason);
-  return fmt::format("{}: {} = {}: {}", where, message_text(key, 200), message_text(value),
-                     reason);
+  return fmt::format("{}: {} = {}: {}", where, message_text(key, 200), message_text(value), reason);
 }
 }  // namespace
 

@@ -2,8 +2,8 @@
 // Output of element tests: the curve of one test as CSV, its summary as JSON, and the summary
 // table of a whole case (CSV, Markdown, and aligned text for the terminal). Curves are
 // compression positive with the unit in every column name (docs/case-files.md lists them).
-// Files are written atomically: into FILE.<unique>.tmp in the same folder, then renamed over FILE, so an
-// error never leaves a half-written file and never destroys a good older one.
+// Files are written atomically: into FILE.<unique>.tmp in the same folder, then renamed over FILE,
+// so an error never leaves a half-written file and never destroys a good older one.
 #include <filesystem>
 #include <string>
 #include <string_view>

@@ -6,8 +6,9 @@
 // needs (the next phase, the particles' initial positions, the output records so far).
 // The materials are not stored: a restart takes them from the case file, so a checkpoint can be
 // continued with a different parameter set while every particle keeps its stress, void ratio and
-// intergranular strain. Files are written atomically (FILE.<unique>.tmp, then renamed). Every dataset
-// carries a checksum, and HDF5's metadata its own: a damaged file is refused naming the dataset.
+// intergranular strain. Files are written atomically (FILE.<unique>.tmp, then renamed). Every
+// dataset carries a checksum, and HDF5's metadata its own: a damaged file is refused naming the
+// dataset.
 #include <filesystem>
 #include <map>
 #include <string>

@@ -58,8 +58,7 @@ bool NumberRange::contains(double value) const {
 }
 
 std::string NumberRange::problem(double value) const {
-  const bool inside = std::isfinite(value) &&
-                      (lower_open ? value > lower : value >= lower) &&
+  const bool inside = std::isfinite(value) && (lower_open ? value > lower : value >= lower) &&
                       (upper_open ? value < upper : value <= upper);
   if (!inside) return fmt::format("out of range: must be {}", describe());
   const double magnitude = std::fabs(value);
@@ -91,9 +90,9 @@ std::string read_case_text(const std::filesystem::path& path) {
     text.append(piece, static_cast<std::size_t>(in.gcount()));
   if (in.bad()) throw InputError(path.string(), 0, "", "", "cannot read the file");
   if (text.size() > kMaxTomlBytes)
-    throw InputError(path.string(), 0, "", "",
-                     fmt::format("the file is larger than {} MiB: not a case file",
-                                 kMaxTomlBytes >> 20));
+    throw InputError(
+        path.string(), 0, "", "",
+        fmt::format("the file is larger than {} MiB: not a case file", kMaxTomlBytes >> 20));
   return text;
 }
 

@@ -15,8 +15,8 @@ ThreadBudget current_thread_budget() {
   ThreadBudget budget;
   cpu_set_t mask;
   CPU_ZERO(&mask);
-  budget.cores = sched_getaffinity(0, sizeof mask, &mask) == 0 ? CPU_COUNT(&mask)
-                                                                : omp_get_num_procs();
+  budget.cores =
+      sched_getaffinity(0, sizeof mask, &mask) == 0 ? CPU_COUNT(&mask) : omp_get_num_procs();
   // /proc/loadavg: "0.52 0.58 0.59 3/467 12345": the averages, then runnable/all tasks (the
   // runnable ones include this thread).
   long fewest = -1;
@@ -42,8 +42,8 @@ int default_thread_count(std::size_t particles, const ThreadBudget& budget) {
   const long busy = std::lround(std::clamp(budget.load, 0.0, 1.0e6));
   const long idle = std::max(1L, static_cast<long>(budget.cores) - busy);
   const long by_size = std::max<long>(1, static_cast<long>(particles / kParticlesPerThread));
-  return static_cast<int>(std::max(1L, std::min({static_cast<long>(budget.max_threads), idle,
-                                                 by_size})));
+  return static_cast<int>(
+      std::max(1L, std::min({static_cast<long>(budget.max_threads), idle, by_size})));
 }
 
 int default_thread_count(std::size_t particles) {

@@ -21,9 +21,9 @@ inline constexpr std::size_t kParticlesPerThread = 500;
 
 /// What the default is made of (for messages and tests).
 struct ThreadBudget {
-  int cores = 1;       ///< CPUs in this process's affinity mask
-  double load = 0.0;   ///< cores kept busy by other processes now
-  int max_threads = 1; ///< omp_get_max_threads() (OMP_NUM_THREADS caps it)
+  int cores = 1;        ///< CPUs in this process's affinity mask
+  double load = 0.0;    ///< cores kept busy by other processes now
+  int max_threads = 1;  ///< omp_get_max_threads() (OMP_NUM_THREADS caps it)
 };
 
 /// The machine as it is now.
