@@ -118,7 +118,7 @@ TEST(AnalyticCli, CsvOnAFullDiskIsAnErrorAndKeepsTheOldFile) {
                     ("pilempm_test_full_" + std::to_string(::getpid()) + ".csv");
   std::ofstream(path) << "old\n";
   const std::string command = "trap '' XFSZ; ulimit -f 0; \"" + std::string(PILEMPM_BINARY) +
-                              "\" analytic bolton --id 0.95 --phi-c-deg 31 --csv \"" +
+                              "\" analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 100 --csv \"" +
                               path.string() + "\" 2>&1";
   std::FILE* pipe = popen(command.c_str(), "r");
   ASSERT_NE(pipe, nullptr);

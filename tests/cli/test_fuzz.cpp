@@ -507,8 +507,10 @@ void fuzz_command_line(int inputs, std::uint64_t seed) {
                           : std::string())
                   << "\n  output: " << outcome.output.substr(0, 600);
   }
-  std::printf("[ fuzz command line ] %d runs: %d accepted, %d rejected, %d other\n", inputs,
-              counts[0], counts[1], counts[2] + counts[3] + counts[4]);
+  std::printf(
+      "[ fuzz command line ] %d runs: %d accepted, %d rejected naming the option, %d other\n",
+      counts[0] + counts[1] + counts[2] + counts[3] + counts[4], counts[0], counts[1],
+      counts[2] + counts[3] + counts[4]);
 }
 
 TEST(FuzzCaseFiles, NoCrashNoHangAndEveryRejectionNamesTheFile) {
