@@ -450,6 +450,7 @@ void fuzz_command_line(int inputs, std::uint64_t seed) {
       if (arguments[i - 1].rfind("--", 0) == 0 && arguments[i].rfind("--", 0) != 0)
         values.push_back(i);
     std::string changed;  // the option whose value changed: the message must name it
+    std::string changed_value;
     if (!values.empty() && random.below(4) != 0) {
       const std::size_t i = random.pick(values);
       static const std::vector<std::string> bad = {"",
@@ -480,6 +481,7 @@ void fuzz_command_line(int inputs, std::uint64_t seed) {
                                                    "1,nan"};
       arguments[i] = random.pick(bad);
       changed = arguments[i - 1];
+      changed_value = arguments[i];
     } else if (random.below(2) == 0 && !values.empty()) {  // an option and its value left out
       const std::size_t i = random.pick(values);
       arguments.erase(arguments.begin() + static_cast<long>(i - 1),
@@ -494,7 +496,11 @@ void fuzz_command_line(int inputs, std::uint64_t seed) {
     ++counts[outcome.kind];
     std::string line;
     for (const auto& a : arguments) line += " '" + a + "'";
-    const bool named = changed.empty() || outcome.output.find(changed) != std::string::npos;
+    // The option, or (for an error about a combination, e.g. a void ratio outside the model's
+    // band at the changed stress) the changed value itself.
+    const bool named =
+        changed.empty() || outcome.output.find(changed) != std::string::npos ||
+        (changed_value.size() >= 3 && outcome.output.find(changed_value) != std::string::npos);
     const bool clean =
         outcome.kind == Outcome::accepted || (outcome.kind == Outcome::rejected && named &&
                                               outcome.output.find('\x1b') == std::string::npos);
