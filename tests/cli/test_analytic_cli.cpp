@@ -16,8 +16,10 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-CommandResult run_pilempm(const std::string& arguments) {
-  const std::string command = std::string("\"") + PILEMPM_BINARY + "\" " + arguments + " 2>&1";
+// `shell_prefix` runs before the program in the same shell (e.g. to set a limit).
+CommandResult run_pilempm(const std::string& arguments, const std::string& shell_prefix = "") {
+  const std::string command =
+      shell_prefix + "\"" + std::string(PILEMPM_BINARY) + "\" " + arguments + " 2>&1";
   std::FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return {-1, "popen failed"};
   std::string output;
@@ -117,19 +119,11 @@ TEST(AnalyticCli, CsvOnAFullDiskIsAnErrorAndKeepsTheOldFile) {
   const auto path = std::filesystem::temp_directory_path() /
                     ("pilempm_test_full_" + std::to_string(::getpid()) + ".csv");
   std::ofstream(path) << "old\n";
-  const std::string command = "trap '' XFSZ; ulimit -f 0; \"" + std::string(PILEMPM_BINARY) +
-                              "\" analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 100 --csv \"" +
-                              path.string() + "\" 2>&1";
-  std::FILE* pipe = popen(command.c_str(), "r");
-  ASSERT_NE(pipe, nullptr);
-  std::string output;
-  char buffer[4096];
-  std::size_t count;
-  while ((count = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) output.append(buffer, count);
-  const int status = pclose(pipe);
-  ASSERT_TRUE(WIFEXITED(status)) << output;
-  EXPECT_NE(WEXITSTATUS(status), 0) << output;
-  EXPECT_TRUE(contains(output, path.string())) << output;
+  const CommandResult run = run_pilempm(
+      "analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 100 --csv \"" + path.string() + "\"",
+      "trap '' XFSZ; ulimit -f 0; ");
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(contains(run.output, path.string())) << run.output;
   std::ifstream file(path);
   std::string first;
   std::getline(file, first);
