@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <array>
+#include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <span>
 #include <string>
@@ -22,6 +24,7 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/output/format.hpp"
+#include "pilempm/io/toml_reader.hpp"
 
 namespace pilempm::cli {
 
@@ -74,6 +77,7 @@ class Table {
     for (const auto& row : rows_) print_line([&](std::size_t i) { return row[i].shown; });
   }
 
+  /// Atomically, every write checked (a full disk is an error naming the file).
   void write_csv(const std::string& path) const {
     std::string text = csv_row(columns_);
     for (const auto& row : rows_) {
@@ -98,6 +102,23 @@ void emit(const std::string& description, const Table& table, const std::string&
 }
 
 // ---- command-line values and their names ---------------------------------------------------
+
+/// Every number of these commands: not empty, a whole number in the text, finite and of a sane
+/// magnitude (NumberRange's rule: it is multiplied by units, so 1e306 kPa would be infinite).
+const CLI::Validator& sane_number() {
+  static const CLI::Validator validator(
+      [](std::string& text) -> std::string {
+        if (text.empty()) return "an empty value is not allowed: give a number";
+        errno = 0;
+        char* end = nullptr;
+        const double value = std::strtod(text.c_str(), &end);
+        if (end != text.c_str() + text.size() || errno == ERANGE)
+          return fmt::format("not a number: {}", message_text(text));
+        return NumberRange::any().problem(value);
+      },
+      "NUMBER");
+  return validator;
+}
 
 /// A library key and the command-line option it comes from, with the value as the user typed
 /// it (in the option's unit).
@@ -134,7 +155,8 @@ const std::vector<double> kDefaultPressures_kPa = {10,   20,   50,   100,   200,
 CLI::Option* add_pressures(CLI::App* command, std::vector<double>& p_kPa, bool required) {
   auto* option =
       command->add_option("--p-kPa", p_kPa, "mean effective stresses [kPa], comma-separated")
-          ->delimiter(',');
+          ->delimiter(',')
+          ->check(sane_number());
   if (required) return option->required();
   return option->capture_default_str();
 }
@@ -156,9 +178,11 @@ void register_bolton(CLI::App& analytic) {
   auto* command = analytic.add_subcommand(
       "bolton", "Bolton (1986) peak friction and dilatancy in triaxial compression");
   command->add_option("--id", options->relative_density, "relative density I_D [-], in [0, 1]")
-      ->required();
+      ->required()
+      ->check(sane_number());
   command->add_option("--phi-c-deg", options->phi_c_deg, "critical-state friction angle [deg]")
-      ->required();
+      ->required()
+      ->check(sane_number());
   add_pressures(command, options->p_kPa, true);
   add_csv(command, options->csv_path);
   command->callback([options] {
@@ -198,17 +222,29 @@ void register_rohe(CLI::App& analytic) {
       ->add_option("--sigma-v-MPa", options->sigma_v_MPa,
                    "vertical effective stresses [MPa], comma-separated")
       ->delimiter(',')
+      ->check(sane_number())
       ->capture_default_str();
   add_csv(command, options->csv_path);
   command->callback([options] {
-    Table table({"sigma_v_MPa", "e_c0", "e_d0", "e_i0"});
+    Table table({"sigma_v_MPa", "e_c0", "e_d0", "e_i0", "status"});
+    std::vector<std::string> outside;
     for (const double sigma_v_MPa : options->sigma_v_MPa) {
       const RoheReferenceVoidRatios result = naming_options(
           {{"sigma_v_Pa", "--sigma-v-MPa", sigma_v_MPa}},
           [&] { return rohe_reference_void_ratios(sigma_v_MPa * kPascalPerMegapascal); });
+      // The fit means something only while the void ratios are positive and ordered
+      // e_d0 < e_c0 < e_i0 (beyond about 375 MPa e_d0 turns negative).
+      const bool valid =
+          result.e_d0 > 0.0 && result.e_d0 < result.e_c0 && result.e_c0 < result.e_i0;
+      if (!valid) outside.push_back(format_value(sigma_v_MPa));
       table.add_row({input_value(sigma_v_MPa), number(result.e_c0, 4), number(result.e_d0, 4),
-                     number(result.e_i0, 4)});
+                     number(result.e_i0, 4), text(valid ? "ok" : "outside the range of validity")});
     }
+    if (!outside.empty())
+      fmt::print(stderr,
+                 "warning: --sigma-v-MPa {}: outside the range of validity of Rohe's fit (it "
+                 "gives e_d0 <= 0 or void ratios out of order there)\n",
+                 fmt::join(outside, ","));
     const std::string description =
         "# Rohe (2010): reference void ratios against vertical effective stress\n";
     emit(description, table, options->csv_path);
@@ -251,7 +287,8 @@ void register_bauer(CLI::App& analytic) {
       fmt::format("named parameter set ({}); explicit parameters override its values",
                   fmt::join(hypoplastic_set_names(), ", ")));
   for (auto& parameter : options->parameters)
-    parameter.option = command->add_option(parameter.name, parameter.value, parameter.description);
+    parameter.option = command->add_option(parameter.name, parameter.value, parameter.description)
+                           ->check(sane_number());
   add_pressures(command, options->p_kPa, false);
   add_csv(command, options->csv_path);
   command->callback([options] {
@@ -323,7 +360,7 @@ void register_alpha(CLI::App& analytic) {
           "--set", options->set_name,
           fmt::format("named parameter set ({})", fmt::join(hypoplastic_set_names(), ", ")))
       ->capture_default_str();
-  command->add_option("--e0", options->e0, "void ratio [-]")->required();
+  command->add_option("--e0", options->e0, "void ratio [-]")->required()->check(sane_number());
   command
       ->add_option("--e0-convention", options->convention,
                    "initial-stress: e = e0 at every p; zero-pressure: e = e0 exp[-(3p/h_s)^n]")

@@ -40,8 +40,8 @@ double parse_number(const std::string& flag, const std::string& text, const Numb
   const double value = std::strtod(text.c_str(), &end);
   if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE)
     throw flag_error(flag, text, "not a number");
-  if (!range.contains(value))
-    throw flag_error(flag, text, fmt::format("out of range: must be {}", range.describe()));
+  if (const std::string problem = range.problem(value); !problem.empty())
+    throw flag_error(flag, text, problem);
   return value;
 }
 

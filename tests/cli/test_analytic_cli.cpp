@@ -16,8 +16,10 @@ struct CommandResult {
   std::string output;  // stdout and stderr together
 };
 
-CommandResult run_pilempm(const std::string& arguments) {
-  const std::string command = std::string("\"") + PILEMPM_BINARY + "\" " + arguments + " 2>&1";
+// `shell_prefix` runs before the program in the same shell (e.g. to set a limit).
+CommandResult run_pilempm(const std::string& arguments, const std::string& shell_prefix = "") {
+  const std::string command =
+      shell_prefix + "\"" + std::string(PILEMPM_BINARY) + "\" " + arguments + " 2>&1";
   std::FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return {-1, "popen failed"};
   std::string output;
@@ -104,6 +106,91 @@ TEST(AnalyticCli, UnknownSetNamesTheKnownOnes) {
   EXPECT_NE(run.exit_code, 0);
   EXPECT_TRUE(contains(run.output, "nonsense")) << run.output;
   EXPECT_TRUE(contains(run.output, "original")) << run.output;
+}
+
+}  // namespace
+
+namespace {
+
+// A full disk, as the file-size limit makes it for this one command (the signal it would send is
+// ignored, so write() fails with EFBIG): the CSV cannot be written. Before the atomic, checked
+// writer the command exited 0 and left an empty file.
+TEST(AnalyticCli, CsvOnAFullDiskIsAnErrorAndKeepsTheOldFile) {
+  const auto path = std::filesystem::temp_directory_path() /
+                    ("pilempm_test_full_" + std::to_string(::getpid()) + ".csv");
+  std::ofstream(path) << "old\n";
+  const CommandResult run = run_pilempm(
+      "analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 100 --csv \"" + path.string() + "\"",
+      "trap '' XFSZ; ulimit -f 0; ");
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(contains(run.output, path.string())) << run.output;
+  std::ifstream file(path);
+  std::string first;
+  std::getline(file, first);
+  EXPECT_EQ(first, "old");
+  for (const auto& entry : std::filesystem::directory_iterator(path.parent_path()))
+    EXPECT_FALSE(entry.path().filename().string().starts_with(path.filename().string() + "."))
+        << "left behind: " << entry.path();
+  std::filesystem::remove(path);
+}
+
+}  // namespace
+
+namespace {
+
+// Empty values were taken as 0 (numbers) or the default (names).
+TEST(CommandLineValues, EmptyValuesAreRefusedNamingTheOption) {
+  for (const char* arguments :
+       {"analytic bolton --id \"\" --phi-c-deg 31 --p-kPa 100",
+        "analytic bolton --id= "
+        "--phi-c-deg 31 --p-kPa 100",
+        "element triaxial --set original --igs none --e0 0.7 --e0-at initial-stress "
+        "--sigma3-kPa 100 --tolerance \"\""}) {
+    const CommandResult run = run_pilempm(arguments);
+    EXPECT_NE(run.exit_code, 0) << arguments << "\n" << run.output;
+    EXPECT_TRUE(contains(run.output, "empty value")) << arguments << "\n" << run.output;
+  }
+  const CommandResult id = run_pilempm("analytic bolton --id \"\" --phi-c-deg 31 --p-kPa 100");
+  EXPECT_TRUE(contains(id.output, "--id")) << id.output;
+}
+
+// Values that pass a plain range check but overflow once converted (1e306 kPa is infinite in Pa).
+TEST(CommandLineValues, ValuesThatOverflowInSiAreRefusedAtTheirOption) {
+  const CommandResult element = run_pilempm(
+      "element triaxial --set original --igs none --e0 0.7 --e0-at initial-stress "
+      "--sigma3-kPa 1e306");
+  EXPECT_NE(element.exit_code, 0) << element.output;
+  EXPECT_TRUE(contains(element.output, "--sigma3-kPa = 1e306: out of range")) << element.output;
+  const CommandResult bolton = run_pilempm("analytic bolton --id 0.5 --phi-c-deg 31 --p-kPa 1e306");
+  EXPECT_NE(bolton.exit_code, 0) << bolton.output;
+  EXPECT_TRUE(contains(bolton.output, "--p-kPa")) << bolton.output;
+  EXPECT_TRUE(contains(bolton.output, "magnitude")) << bolton.output;
+}
+
+TEST(CommandLineValues, ControlCharactersInValuesAreEscaped) {
+  const CommandResult run =
+      run_pilempm("analytic bolton --id \"$(printf '\\033[31m')\" --phi-c-deg 31");
+  EXPECT_NE(run.exit_code, 0) << run.output;
+  EXPECT_FALSE(contains(run.output, "\x1b")) << run.output;
+  EXPECT_TRUE(contains(run.output, "\\x1B[31m")) << run.output;
+}
+
+// 400 MPa lies beyond where Rohe's fit gives positive void ratios: formerly a negative e_d0
+// without a word.
+TEST(AnalyticCli, RoheSaysWhenAStressIsOutsideTheRangeOfValidity) {
+  const CommandResult run = run_pilempm("analytic rohe --sigma-v-MPa 10,400");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(contains(run.output, "warning: --sigma-v-MPa 400: outside the range of validity"))
+      << run.output;
+  std::istringstream lines(run.output);
+  std::string line;
+  int outside = 0;
+  while (std::getline(lines, line)) {
+    if (contains(line, "400") && contains(line, "outside the range of validity") &&
+        !contains(line, "warning"))
+      ++outside;
+  }
+  EXPECT_EQ(outside, 1) << run.output;
 }
 
 }  // namespace

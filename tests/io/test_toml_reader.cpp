@@ -134,3 +134,93 @@ TEST(ParseToml, MissingFileIsAnInputError) {
 
 }  // namespace
 }  // namespace pilempm
+
+namespace pilempm {
+namespace {
+
+std::string dotted_key(int levels) {
+  std::string key = "x";
+  for (int i = 1; i < levels; ++i) key += ".x";
+  return key;
+}
+
+// Before the limits, 13 000 levels overflowed the stack in toml_text (from
+// check_no_unknown_keys) and 31 000 inside toml++'s parser: SIGSEGV without a message.
+TEST(TomlLimits, DeepDottedKeysAndHeadersAreRefusedWithFileAndLine) {
+  for (const int levels : {40, 13000, 40000}) {
+    const std::string key = dotted_key(levels);
+    for (const std::string& text :
+         {"a = 1\n" + key + " = 1\n", "a = 1\n[" + key + "]\nb = 2\n", "a = 1\n[[" + key + "]]\n",
+          "a = 1\nb = { " + key + " = 1 }\n"}) {
+      try {
+        const toml::table doc = parse_toml_text(text, "deep.toml");
+        TableReader r(doc, "deep.toml", "");
+        r.check_no_unknown_keys();
+        ADD_FAILURE() << "accepted " << levels << " levels";
+      } catch (const InputError& e) {
+        EXPECT_EQ(e.file(), "deep.toml");
+        EXPECT_EQ(e.line(), 2);
+        EXPECT_NE(std::string(e.what()).find("at most 32"), std::string::npos) << e.what();
+      }
+    }
+  }
+}
+
+TEST(TomlLimits, KeysUpToTheLimitAndDotsInStringsAndNumbersAreAccepted) {
+  const std::string key = dotted_key(kMaxTomlKeyDepth);
+  const std::string dots(5000, '.');
+  const toml::table doc =
+      parse_toml_text(key + " = 1.5\ns = \"" + dots + "\"\nt = '''\n" + dots + "\n'''\n# " + dots +
+                          "\nv = [1.5, 2.5, 3.5]\n" + "d = 1979-05-27T07:32:00.999\n",
+                      "ok.toml");
+  EXPECT_EQ(doc["s"].value<std::string>()->size(), dots.size());
+  const toml::node* leaf = &doc;
+  for (int i = 0; i < kMaxTomlKeyDepth; ++i) leaf = leaf->as_table()->get("x");
+  EXPECT_DOUBLE_EQ(leaf->value<double>().value_or(0.0), 1.5);
+}
+
+TEST(TomlLimits, DeepArraysAndInlineTablesAreRefused) {
+  for (const std::string& open : {std::string("["), std::string("{ y = ")}) {
+    std::string text = "a = 1\nv = ";
+    for (int i = 0; i < 100000; ++i) text += open;
+    try {
+      parse_toml_text(text, "nest.toml");
+      ADD_FAILURE() << "accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.line(), 2);
+      EXPECT_NE(std::string(e.what()).find("nest.toml:2: arrays and inline tables nested 33"),
+                std::string::npos)
+          << e.what();
+    }
+  }
+}
+
+TEST(TomlLimits, OversizedTextIsRefusedBeforeParsing) {
+  const std::string text(kMaxTomlBytes + 1, '#');
+  try {
+    parse_toml_text(text, "big.toml");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "big.toml");
+  }
+}
+
+TEST(TomlText, LongValuesAreCutAndControlCharactersEscapedInMessages) {
+  // 100 three-byte characters: the cut must fall between characters, and an ESC must not reach
+  // the terminal.
+  std::string value;
+  for (int i = 0; i < 100; ++i) value += "\xE2\x82\xAC";  // the euro sign
+  const toml::table doc = parse_toml_text("name = \"\\u001b[31m" + value + "\"\n", "f.toml");
+  TableReader r(doc, "f.toml", "");
+  const std::string message = error_of([&] { r.check_no_unknown_keys(); }).what();
+  EXPECT_EQ(message.find('\x1b'), std::string::npos) << message;
+  EXPECT_NE(message.find("\\x1B[31m"), std::string::npos) << message;
+  EXPECT_LT(message.size(), 2000u);
+  // Every byte sequence in the message is whole UTF-8: no lead byte without its continuation.
+  const std::size_t cut = message.find("...");
+  ASSERT_NE(cut, std::string::npos) << message;
+  EXPECT_EQ(message.substr(cut - 3, 3), "\xE2\x82\xAC");
+}
+
+}  // namespace
+}  // namespace pilempm

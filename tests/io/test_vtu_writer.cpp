@@ -42,13 +42,13 @@ std::vector<unsigned char> decode(const std::string& text) {
   return out;
 }
 
-// The decoded values of the DataArray called `name` (UInt32 byte count, then doubles).
+// The decoded values of the DataArray called `name` (UInt64 byte count, then doubles).
 std::vector<double> array_values(const std::string& vtu, const std::string& name) {
   const std::regex pattern("Name=\"" + name + "\"[^>]*format=\"binary\">\\s*([A-Za-z0-9+/=]+)");
   std::smatch match;
   if (!std::regex_search(vtu, match, pattern)) return {};
   const std::vector<unsigned char> bytes = decode(match[1].str());
-  std::uint32_t count = 0;
+  std::uint64_t count = 0;
   std::memcpy(&count, bytes.data(), sizeof(count));
   EXPECT_EQ(bytes.size(), sizeof(count) + count);
   std::vector<double> values(count / sizeof(double));
@@ -73,7 +73,7 @@ TEST(VtuWriter, PointsAndFieldsRoundTrip) {
   cloud.fields.push_back({"velocity_m_per_s", 3, {1, 2, 3, 4, 5, 6, 7, 8, 9}});
   const std::string vtu = vtu_text(cloud);
   EXPECT_NE(vtu.find("<VTKFile type=\"UnstructuredGrid\""), std::string::npos);
-  EXPECT_NE(vtu.find("header_type=\"UInt32\""), std::string::npos);
+  EXPECT_NE(vtu.find("header_type=\"UInt64\""), std::string::npos);
   EXPECT_NE(vtu.find("NumberOfPoints=\"3\" NumberOfCells=\"3\""), std::string::npos);
   EXPECT_EQ(array_values(vtu, "Points"), cloud.coordinates);
   EXPECT_EQ(array_values(vtu, "void_ratio"), cloud.fields[0].values);

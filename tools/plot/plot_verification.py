@@ -36,17 +36,20 @@ G = 9.81  # the solver's default gravity [m/s^2]; a case's [solver] gravity_m_pe
 
 def read_vtu(path):
     """The points (n x 3) and the point fields {name: array (n,) or (n, k)} of one VTU file
-    written by pilempm (binary DataArrays: base64 of [UInt32 byte count][values])."""
+    written by pilempm (binary DataArrays: base64 of [byte count][values], the count a UInt64
+    or, in files of older versions, a UInt32 as the header_type says)."""
     kinds = {"Float64": "d", "Float32": "f", "Int64": "q", "Int32": "i", "UInt8": "B"}
     root = ET.parse(path).getroot()
+    header = "<Q" if root.get("header_type") == "UInt64" else "<I"
+    header_size = struct.calcsize(header)
     piece = root.find("UnstructuredGrid/Piece")
     fields = {}
 
     def decode(array):
         raw = base64.b64decode(array.text.strip())
-        (count,) = struct.unpack_from("<I", raw, 0)
+        (count,) = struct.unpack_from(header, raw, 0)
         code = kinds[array.get("type")]
-        values = np.frombuffer(raw[4:4 + count], dtype="<" + code)
+        values = np.frombuffer(raw[header_size:header_size + count], dtype="<" + code)
         k = int(array.get("NumberOfComponents", "1"))
         return values.reshape(-1, k) if k > 1 else values
 

@@ -3,6 +3,7 @@
 // and (once the input layer has added it) which file and line.
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace pilempm {
 
@@ -39,6 +40,11 @@ class InputError : public Error {
   long line_;
   std::string key_;
 };
+
+/// Text from the user made safe for one line of a message: control characters (C0, DEL, C1) and
+/// bytes that are not UTF-8 escaped as \xNN or \u00NN, and text longer than `max_characters`
+/// characters cut on a character boundary with "..." appended.
+std::string message_text(std::string_view text, std::size_t max_characters = 80);
 
 /// Formats a double with enough digits to round-trip, without trailing noise for short values.
 std::string format_value(double value);

@@ -8,11 +8,19 @@
 
 namespace pilempm {
 
-bool NumberRange::contains(double value) const {
-  if (!std::isfinite(value)) return false;
-  if (lower_open ? !(value > lower) : !(value >= lower)) return false;
-  if (upper_open ? !(value < upper) : !(value <= upper)) return false;
-  return true;
+bool NumberRange::contains(double value) const { return problem(value).empty(); }
+
+std::string NumberRange::problem(double value) const {
+  const bool inside = std::isfinite(value) && (lower_open ? value > lower : value >= lower) &&
+                      (upper_open ? value < upper : value <= upper);
+  if (!inside) return fmt::format("out of range: must be {}", describe());
+  const double magnitude = std::fabs(value);
+  if (magnitude > kMaxMagnitude || (magnitude > 0.0 && magnitude < 1.0 / kMaxMagnitude))
+    return fmt::format(
+        "out of range: must be 0 or of a magnitude in [1e-100, 1e+100] (it is multiplied by "
+        "units and other values){}",
+        std::isfinite(lower) || std::isfinite(upper) ? ", and " + describe() : std::string());
+  return {};
 }
 
 std::string NumberRange::describe() const {

@@ -24,12 +24,18 @@ struct NumberRange {
   static NumberRange closed(double a, double b) { return {a, b, false, false}; }
   static NumberRange left_open(double a, double b) { return {a, b, true, false}; }  // (a, b]
 
-  /// Finite and inside the interval.
+  /// Finite, inside the interval, and of a sane magnitude (kMaxMagnitude).
   bool contains(double value) const;
+  /// "" when contains(value), else why not: "out of range: must be ..." or the magnitude rule.
+  std::string problem(double value) const;
   /// "> 0", ">= 1", "in (0, 1)", "in (0, 0.1]", "any finite number".
   std::string describe() const;
 
   static constexpr double kInf = std::numeric_limits<double>::infinity();
+  /// Every number read is 0 or of a magnitude in [1/kMaxMagnitude, kMaxMagnitude], whatever its
+  /// range: values are multiplied by units and by one another (a pressure in kPa of 1e306 is
+  /// infinite in Pa, a speed of 5e-324 m/s an infinite duration), and no input means more.
+  static constexpr double kMaxMagnitude = 1e100;
 };
 
 /// Maps the keys that library validation (InvalidValue) uses to the keys of the input, where

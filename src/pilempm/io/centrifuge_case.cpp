@@ -173,6 +173,17 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
       if (auto t = root.table(key.substr(0, dot))) line = t->line_of(key.substr(dot + 1));
     throw InputError(source_name, line, key, e.value(), e.allowed());
   }
+  // Everything `centrifuge run` checks, checked now: the MPM case the scenario becomes is read as
+  // the run will read it. What it rejects comes from a combination of this file's values; the
+  // message names this file (not the generated mpm_case.toml the user never wrote).
+  try {
+    (void)centrifuge_to_mpm_case(s, "mpm_case.toml");
+  } catch (const InputError& e) {
+    throw InputError(source_name, 0, "", "",
+                     fmt::format("the values of this file give an MPM case that is not valid "
+                                 "(change the values that set it): {}",
+                                 e.what()));
+  }
   return s;
 }
 

@@ -9,18 +9,6 @@
 
 namespace pilempm {
 
-namespace {
-
-bool safe_name(const std::string& name) {
-  if (name.empty() || name.size() > 100) return false;
-  return std::all_of(name.begin(), name.end(), [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ||
-           c == '+';
-  });
-}
-
-}  // namespace
-
 bool TomlParameterSource::holds_string(std::string_view key) {
   const toml::node* node = reader_->node(key);
   return node != nullptr && node->is_string();
@@ -97,10 +85,8 @@ void MaterialCatalog::read(TableReader& root) {
   if (auto integrator = root.table("integrator")) integrator_ = read_integrator(*integrator);
   for (TableReader& t : root.tables("material")) {
     MaterialSpec m;
-    m.name = t.string("name");
-    if (!safe_name(m.name))
-      throw t.error("name",
-                    "not allowed: must be 1 to 100 letters, digits and the characters - _ . +");
+    if (!t.contains("name")) (void)t.string("name");  // the error for a missing name
+    m.name = t.name_or("name", "");
     if (find(m.name) != nullptr)
       throw t.error("name", find(m.name)->builtin
                                 ? "already the name of a built-in set: choose another name "

@@ -17,6 +17,10 @@ namespace pilempm {
 
 namespace {
 
+// Speeds (initial particle velocities, prescribed body velocities): 10 km/s is beyond anything
+// this program models, and the time step must stay finite (the wave speed adds to it).
+const NumberRange kVelocityRange = NumberRange::closed(-1.0e4, 1.0e4);
+
 constexpr double kKPa = 1.0e3;
 constexpr int kMaxCells = 100000;
 constexpr int kMaxParticlesPerCell = 16;
@@ -101,7 +105,7 @@ MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
   r.source = fmt::format("{}:{}", t.file(), t.line());
   r.line = t.line();
   r.key = t.path();
-  r.name = t.optional_string("name").value_or(fmt::format("region{}", index + 1));
+  r.name = t.name_or("name", fmt::format("region{}", index + 1));
   t.declare({"x_min_m", "x_max_m", "y_min_m", "y_max_m", "particles_per_cell", "density_kg_per_m3",
              "material", "initial_stress", "K0", "e0", "e0_at", "igs", "igs_initial",
              "velocity_x_m_per_s", "velocity_y_m_per_s"});
@@ -123,8 +127,8 @@ MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
   f.particles_per_cell_x = static_cast<int>(per_cell.front());
   f.particles_per_cell_y = static_cast<int>(per_cell.back());
   f.density = t.number("density_kg_per_m3", NumberRange::positive());
-  f.initial_velocity = {t.number_or("velocity_x_m_per_s", 0.0, NumberRange::any()),
-                        t.number_or("velocity_y_m_per_s", 0.0, NumberRange::any())};
+  f.initial_velocity = {t.number_or("velocity_x_m_per_s", 0.0, kVelocityRange),
+                        t.number_or("velocity_y_m_per_s", 0.0, kVelocityRange)};
   f.material = index;
 
   const std::string material_name = t.string("material");
@@ -224,7 +228,7 @@ MpmBody read_body(TableReader& t, mpm::Geometry geometry, int index) {
   MpmBody b;
   b.line = t.line();
   b.key = t.path();
-  b.name = t.optional_string("name").value_or(fmt::format("body{}", index + 1));
+  b.name = t.name_or("name", fmt::format("body{}", index + 1));
   t.declare({"kind", "radius_m", "tip_y_m", "tip", "apex_angle_deg", "vertices_m",
              "interface_friction_angle_deg", "contact_distance_m"});
   const bool axisymmetric = geometry == mpm::Geometry::axisymmetric;
@@ -369,8 +373,8 @@ void read_body_motions(TableReader& t, const MpmCase& c, MpmPhase& p) {
     if (c.bodies[index].kind == MpmBodyKind::pile && motion->contains("velocity_x_m_per_s"))
       throw motion->error("velocity_x_m_per_s",
                           "not allowed: a pile moves along the axis (y) only");
-    m.velocity = {motion->number_or("velocity_x_m_per_s", 0.0, NumberRange::any()),
-                  motion->number_or("velocity_y_m_per_s", 0.0, NumberRange::any())};
+    m.velocity = {motion->number_or("velocity_x_m_per_s", 0.0, kVelocityRange),
+                  motion->number_or("velocity_y_m_per_s", 0.0, kVelocityRange)};
     m.ramp = motion->number_or("ramp_s", 0.0, NumberRange::non_negative());
     motion->check_no_unknown_keys();
   }
@@ -479,7 +483,7 @@ void read_material_changes(TableReader& t, const MpmCase& c, const MaterialCatal
 MpmPhase read_phase(TableReader& t, const MpmCase& c, const MaterialCatalog& catalog, int index) {
   const mpm::SolverSettings& solver = c.solver;
   MpmPhase p;
-  p.name = t.optional_string("name").value_or(fmt::format("phase{}", index + 1));
+  p.name = t.name_or("name", fmt::format("phase{}", index + 1));
   if (t.optional_choice("kind", {"standard", "geostatic"}).value_or("standard") == "geostatic") {
     p.kind = MpmPhaseKind::geostatic;
     if (std::none_of(c.regions.begin(), c.regions.end(), [](const MpmRegion& r) {
@@ -651,6 +655,12 @@ mpm::Particles make_mpm_particles(const MpmCase& c, const mpm::Grid& grid) {
     } catch (const InvalidValue& e) {
       throw InputError(c.source, r.line, r.key + "." + e.key(), e.value(), e.what());
     }
+    if (particles.size() == first)
+      throw InputError(c.source, r.line, r.key, "",
+                       fmt::format("region \"{}\" holds no particle: its rectangle covers no "
+                                   "particle position of the grid's cells (make it larger or the "
+                                   "grid finer)",
+                                   r.name));
     const ConstitutiveModel& model = *c.models[static_cast<std::size_t>(r.fill.material)];
     for (std::size_t p = first; p < particles.size(); ++p)
       geostatic_state(c, r, model, particles.position[p], gravity, particles.state[p]);

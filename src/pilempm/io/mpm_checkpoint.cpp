@@ -16,6 +16,8 @@
 #include <utility>
 
 #include "pilempm/core/error.hpp"
+#include "pilempm/io/element_output.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 
 // File layout (version 2). Doubles are stored as native doubles and integers as native 32/64-bit
 // integers, read back without conversion, so a round trip is bitwise.
@@ -41,6 +43,10 @@
 //   /run               attributes case_source, next_phase, phase_start; dataset initial_position
 //                      (0 or n, 2); /run/records attribute count, datasets 0, 1, ...: one
 //                      fixed-length string each with attributes name and length (bytes)
+// Damage is detected (version 2): every dataset carries an attribute `checksum`, the 64-bit
+// FNV-1a hash of its bytes as written, compared with the bytes read; and the file is written in
+// HDF5's latest format, whose superblock, object headers (with the attributes) and link
+// structures carry HDF5's own checksums, which the library verifies when it reads them.
 
 namespace pilempm {
 
@@ -150,6 +156,21 @@ std::string hdf5_error_text() {
       },
       &text);
   return text;
+}
+
+// The 64-bit FNV-1a hash of `size` bytes (Fowler, Noll and Vo; offset basis and prime of the
+// published 64-bit variant). Any change of one byte changes it.
+std::uint64_t content_hash(const void* data, std::size_t size) {
+  std::uint64_t hash = 14695981039346656037ULL;
+  const auto* bytes = static_cast<const unsigned char*>(data);
+  for (std::size_t i = 0; i < size; ++i) hash = (hash ^ bytes[i]) * 1099511628211ULL;
+  return hash;
+}
+
+// The bytes of a dataset of `dims` in memory type `memory_type`.
+std::size_t byte_count(hid_t memory_type, const std::vector<hsize_t>& dims) {
+  return std::accumulate(dims.begin(), dims.end(), hsize_t{1}, std::multiplies<hsize_t>()) *
+         H5Tget_size(memory_type);
 }
 
 // A fixed-length string type of `size` bytes (at least 1), padded with NULs.
@@ -314,7 +335,12 @@ class Writer {
   explicit Writer(std::string file) : file_(std::move(file)) {}
 
   Handle create_file() const {
-    Handle file(H5Fcreate(file_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), H5Fclose);
+    // The latest format: its metadata carries checksums (see the layout above).
+    const Handle access(H5Pcreate(H5P_FILE_ACCESS), H5Pclose);
+    if (!access.valid() ||
+        H5Pset_libver_bounds(access.get(), H5F_LIBVER_LATEST, H5F_LIBVER_LATEST) < 0)
+      fail_hdf5("the file access properties");
+    Handle file(H5Fcreate(file_.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, access.get()), H5Fclose);
     if (!file.valid()) {
       const int saved = errno;
       fail(fmt::format("cannot create it: {}",
@@ -365,6 +391,12 @@ class Writer {
     if (!set.valid() ||
         (!empty && H5Dwrite(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0))
       fail_hdf5(fmt::format("dataset {}", name));
+    checksum(set.get(), empty ? nullptr : data, empty ? 0 : byte_count(memory_type, dims));
+  }
+  // The checksum attribute of a dataset whose bytes (as written) are `data`.
+  void checksum(hid_t set, const void* data, std::size_t size) const {
+    const std::uint64_t hash = content_hash(data, size);
+    attribute(set, "checksum", H5T_NATIVE_UINT64, &hash);
   }
   void doubles(hid_t loc, const char* name, const std::vector<hsize_t>& dims,
                const std::vector<double>& values) const {
@@ -391,6 +423,7 @@ class Writer {
         H5Dwrite(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, padded.data()) < 0)
       fail_hdf5(fmt::format("dataset {}", name));
     attribute(set.get(), "length", static_cast<std::int64_t>(value.size()));
+    checksum(set.get(), padded.data(), padded.size());
   }
 
   [[noreturn]] void fail(const std::string& why) const {
@@ -652,6 +685,19 @@ class Reader {
     const bool empty = std::find(dims.begin(), dims.end(), hsize_t{0}) != dims.end();
     if (!empty && H5Dread(set.get(), memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0)
       fail_hdf5(where + "/" + name, "cannot read (the file may be damaged)");
+    verify(set.get(), where + "/" + name, empty ? nullptr : data,
+           empty ? 0 : byte_count(memory_type, dims));
+  }
+  // Compares the bytes read from a dataset with the checksum stored when it was written.
+  void verify(hid_t set, const std::string& key, const void* data, std::size_t size) const {
+    const Handle attr = attribute(set, key, "checksum", H5T_INTEGER);
+    std::uint64_t stored = 0;
+    if (H5Aread(attr.get(), H5T_NATIVE_UINT64, &stored) < 0)
+      fail_hdf5(attribute_key(key, "checksum"), "cannot read");
+    if (stored != content_hash(data, size))
+      fail(key, "",
+           "damaged: its data do not match the checksum stored when it was written (the file "
+           "was changed afterwards; restart from another checkpoint)");
   }
   std::vector<double> doubles(hid_t loc, const std::string& where, const std::string& name,
                               const std::vector<hsize_t>& dims) const {
@@ -678,6 +724,7 @@ class Reader {
     if (value.empty() ||
         H5Dread(set.get(), type.get(), H5S_ALL, H5S_ALL, H5P_DEFAULT, value.data()) < 0)
       fail_hdf5(key, "cannot read (the file may be damaged)");
+    verify(set.get(), key, value.data(), value.size());
     const std::int64_t length = integer(set.get(), key, "length");
     if (length < 0 || static_cast<std::size_t>(length) > value.size())
       fail(key + "@length", std::to_string(length),
@@ -886,8 +933,7 @@ MpmCheckpointInfo read_run_info(const Reader& r, hid_t root, std::size_t particl
 
 void write_mpm_checkpoint(const fs::path& file, const Solver& solver,
                           const MpmCheckpointInfo& info) {
-  fs::path tmp = file;
-  tmp += ".tmp";
+  const fs::path tmp = temporary_path_for(file);
   const QuietHdf5Errors quiet;
   try {
     const Writer writer(tmp.string());

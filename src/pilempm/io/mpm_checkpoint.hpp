@@ -7,7 +7,8 @@
 // The materials are not stored: a restart takes them from the case file, so a checkpoint can be
 // continued with a different parameter set while every particle keeps its stress, void ratio and
 // the history variables its model declares (e.g. the intergranular strain). Files are written
-// atomically (FILE.tmp, then renamed).
+// atomically (FILE.<unique>.tmp, then renamed). Every dataset carries a checksum, and HDF5's
+// metadata its own: a damaged file is refused naming the dataset.
 #include <filesystem>
 #include <map>
 #include <string>

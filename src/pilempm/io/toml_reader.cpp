@@ -56,9 +56,101 @@ InputError parse_error_to_input_error(const toml::parse_error& e, const std::str
 std::string read_case_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "", "", "cannot open the file for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  // In pieces, stopping one byte past the limit, so that /dev/zero or a huge file stops here.
+  std::string text;
+  char piece[1 << 16];
+  while (text.size() <= kMaxTomlBytes && in.read(piece, sizeof piece).gcount() > 0)
+    text.append(piece, static_cast<std::size_t>(in.gcount()));
+  if (in.bad()) throw InputError(path.string(), 0, "", "", "cannot read the file");
+  if (text.size() > kMaxTomlBytes)
+    throw InputError(
+        path.string(), 0, "", "",
+        fmt::format("the file is larger than {} MiB: not a case file", kMaxTomlBytes >> 20));
+  return text;
+}
+
+void check_toml_shape(std::string_view text, const std::string& source_name) {
+  // A cheap scan before toml++ parses: toml++ and every walk over the parsed tree recurse once per
+  // level, so a 27 KB file of `x.x.x...x = 1` (13 000 levels) would overflow the stack. Strings
+  // and comments are skipped; a "segment" is the text between two of = , [ ] { } and a line
+  // break, so the dots of one segment are the separators of one dotted key or header (a number or
+  // a date-time has at most one).
+  if (text.size() > kMaxTomlBytes)
+    throw InputError(
+        source_name, 0, "", "",
+        fmt::format("the text is larger than {} MiB: not a case file", kMaxTomlBytes >> 20));
+  long line = 1;
+  int dots = 0, brackets = 0;
+  const auto fail = [&](const char* what, int depth, int limit) {
+    throw InputError(
+        source_name, line, "", "",
+        fmt::format("{} nested {} levels deep: at most {} are allowed", what, depth, limit));
+  };
+  const std::size_t n = text.size();
+  std::size_t i = 0;
+  // Skips the string whose opening quote is at i, counting its line breaks.
+  const auto skip_string = [&]() {
+    const char quote = text[i];
+    const std::string_view triple = quote == '"' ? std::string_view("\"\"\"") : "'''";
+    const bool multi = text.substr(i, 3) == triple;
+    const bool escapes = quote == '"';
+    i += multi ? 3 : 1;
+    while (i < n) {
+      const char c = text[i];
+      if (escapes && c == '\\') {
+        if (i + 1 < n && text[i + 1] == '\n') ++line;
+        i += 2;
+        continue;
+      }
+      if (c == '\n') {
+        if (!multi) return;  // an unterminated string: toml++ reports it
+        ++line;
+      }
+      if (c == quote && (!multi || text.substr(i, 3) == triple)) {
+        i += multi ? 3 : 1;
+        for (int extra = 0; multi && extra < 2 && i < n && text[i] == quote; ++extra) ++i;
+        return;
+      }
+      ++i;
+    }
+  };
+  while (i < n) {
+    switch (text[i]) {
+      case '"':
+      case '\'':
+        skip_string();
+        continue;
+      case '#':
+        while (i < n && text[i] != '\n') ++i;
+        continue;
+      case '\n':
+        ++line;
+        dots = 0;
+        break;
+      case '=':
+      case ',':
+        dots = 0;
+        break;
+      case '[':
+      case '{':
+        dots = 0;
+        if (++brackets > kMaxTomlBrackets)
+          fail("arrays and inline tables", brackets, kMaxTomlBrackets);
+        break;
+      case ']':
+      case '}':
+        dots = 0;
+        brackets = std::max(0, brackets - 1);
+        break;
+      case '.':
+        if (++dots >= kMaxTomlKeyDepth)
+          fail("a dotted key or table header", dots + 1, kMaxTomlKeyDepth);
+        break;
+      default:
+        break;
+    }
+    ++i;
+  }
 }
 
 toml::table parse_toml_file(const std::filesystem::path& path) {
@@ -66,6 +158,7 @@ toml::table parse_toml_file(const std::filesystem::path& path) {
 }
 
 toml::table parse_toml_text(std::string_view text, const std::string& source_name) {
+  check_toml_shape(text, source_name);
   try {
     return toml::parse(text, source_name);
   } catch (const toml::parse_error& e) {
@@ -73,7 +166,24 @@ toml::table parse_toml_text(std::string_view text, const std::string& source_nam
   }
 }
 
+namespace {
+
+// Deeper than this, and longer than this, toml_text writes "..." (messages need no more, and the
+// walk stays bounded whatever the tree).
+constexpr int kTomlTextDepth = 8;
+constexpr std::size_t kTomlTextItems = 64;
+
+std::string toml_text_at(const toml::node& node, int depth);
+
+}  // namespace
+
 std::string toml_text(const toml::node& node) {
+  return toml_text_at(node, 0);
+}
+
+namespace {
+
+std::string toml_text_at(const toml::node& node, int depth) {
   // Written here rather than by toml++'s printer, which quotes strings with ' and prints
   // floats with all 17 digits (0.80000000000000004): messages show what the user wrote.
   if (const auto* s = node.as_string()) {
@@ -88,27 +198,32 @@ std::string toml_text(const toml::node& node) {
   if (const auto* f = node.as_floating_point()) return format_value(f->get());
   if (const auto* b = node.as_boolean()) return b->get() ? "true" : "false";
   if (const auto* array = node.as_array()) {
+    if (depth >= kTomlTextDepth && !array->empty()) return "[...]";
     std::string out = "[";
     for (std::size_t i = 0; i < array->size(); ++i) {
       if (i > 0) out += ", ";
-      out += toml_text(*array->get(i));
+      if (i == kTomlTextItems) return out + "...]";
+      out += toml_text_at(*array->get(i), depth + 1);
     }
     return out + "]";
   }
   if (const auto* table = node.as_table()) {
+    if (depth >= kTomlTextDepth && !table->empty()) return "{ ... }";
     std::string out = "{";
-    bool first = true;
+    std::size_t count = 0;
     for (auto&& [key, value] : *table) {
-      out += first ? " " : ", ";
-      first = false;
-      out += fmt::format("{} = {}", key.str(), toml_text(value));
+      out += count == 0 ? " " : ", ";
+      if (count++ == kTomlTextItems) return out + "... }";
+      out += fmt::format("{} = {}", key.str(), toml_text_at(value, depth + 1));
     }
-    return out + (first ? "}" : " }");
+    return out + (count == 0 ? "}" : " }");
   }
   std::ostringstream os;  // dates and times
   node.visit([&os](const auto& n) { os << n; });
   return os.str();
 }
+
+}  // namespace
 
 std::string toml_type_name(const toml::node& node) {
   switch (node.type()) {
@@ -234,9 +349,8 @@ double TableReader::to_number(std::string_view key, const toml::node& node,
     throw InputError(file_, line, label, toml_text(node),
                      fmt::format("wrong type: expected a number, got {}", toml_type_name(node)));
   }
-  if (!range.contains(value))
-    throw InputError(file_, line, label, toml_text(node),
-                     fmt::format("out of range: must be {}", range.describe()));
+  if (const std::string problem = range.problem(value); !problem.empty())
+    throw InputError(file_, line, label, toml_text(node), problem);
   (void)key;
   return value;
 }
@@ -290,6 +404,24 @@ std::optional<std::string> TableReader::optional_string(std::string_view key) {
   const auto* s = n->as_string();
   if (s == nullptr) wrong_type(key, *n, "a string");
   return s->get();
+}
+
+bool is_safe_name(std::string_view name) {
+  if (name.empty() || name.size() > kMaxNameLength) return false;
+  return std::all_of(name.begin(), name.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) || c == '-' || c == '_' || c == '.' ||
+           c == '+';
+  });
+}
+
+std::string TableReader::name_or(std::string_view key, const std::string& fallback) {
+  std::optional<std::string> name = optional_string(key);
+  if (!name) return fallback;
+  if (!is_safe_name(*name))
+    throw error(key, fmt::format("not allowed: must be 1 to {} letters, digits and the characters "
+                                 "- _ . +",
+                                 kMaxNameLength));
+  return *name;
 }
 
 std::string TableReader::string(std::string_view key) {
@@ -400,9 +532,8 @@ void TableReader::check_no_unknown_keys() const {
   if (!guess.empty()) reason += fmt::format(" (did you mean \"{}\"?)", guess);
   reason += allowed.empty() ? std::string("; no keys are allowed here")
                             : fmt::format("; allowed here: {}", fmt::join(allowed, ", "));
-  std::string value = toml_text(*first_node);
-  if (value.size() > 60) value = value.substr(0, 57) + "...";
-  throw InputError(file_, first_line > 0 ? first_line : line(), full_key(name), value, reason);
+  throw InputError(file_, first_line > 0 ? first_line : line(), full_key(name),
+                   toml_text(*first_node), reason);
 }
 
 }  // namespace pilempm

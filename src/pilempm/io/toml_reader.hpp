@@ -20,7 +20,19 @@
 
 namespace pilempm {
 
-/// The whole text of a case file; an unreadable file is an InputError naming it.
+/// Limits on what the reader accepts, checked before toml++ parses (it recurses once per level):
+/// the size of a file, the levels of one dotted key or table header, and the nesting of arrays and
+/// inline tables.
+inline constexpr std::size_t kMaxTomlBytes = std::size_t{16} << 20;
+inline constexpr int kMaxTomlKeyDepth = 32;
+inline constexpr int kMaxTomlBrackets = 32;
+
+/// Throws an InputError naming `source_name` and the line when `text` exceeds one of the limits
+/// above. Called by parse_toml_text.
+void check_toml_shape(std::string_view text, const std::string& source_name);
+
+/// The whole text of a case file; an unreadable file or one larger than kMaxTomlBytes is an
+/// InputError naming it.
 std::string read_case_text(const std::filesystem::path& path);
 /// Parses a TOML file; a syntax error or an unreadable file becomes an InputError with the line.
 toml::table parse_toml_file(const std::filesystem::path& path);
@@ -65,6 +77,9 @@ class TableReader {
 
   std::string string(std::string_view key);
   std::optional<std::string> optional_string(std::string_view key);
+  /// A name (of a phase, region, body, material): is_safe_name, else an error at the key; the
+  /// fallback when absent.
+  std::string name_or(std::string_view key, const std::string& fallback);
   /// A string out of a fixed list (the message lists them).
   std::string choice(std::string_view key, const std::vector<std::string>& allowed);
   std::optional<std::string> optional_choice(std::string_view key,
@@ -112,6 +127,11 @@ class TableReader {
   std::string path_;
   std::set<std::string, std::less<>> asked_;
 };
+
+/// Names end up in file names, messages and tables: 1 to kMaxNameLength letters, digits and the
+/// characters - _ . +
+inline constexpr std::size_t kMaxNameLength = 100;
+bool is_safe_name(std::string_view name);
 
 /// TOML text of a node, as it would be written in a file (strings quoted).
 std::string toml_text(const toml::node& node);

@@ -37,11 +37,12 @@ std::string base64_encode(const unsigned char* data, std::size_t size) {
 
 namespace {
 
-// A binary DataArray: base64 of [UInt32 byte count][values].
+// A binary DataArray: base64 of [UInt64 byte count][values] (header_type="UInt64": a 32-bit
+// count would wrap silently above 4 GiB per array).
 template <typename T>
 std::string encoded(const std::vector<T>& values) {
-  const auto bytes = static_cast<std::uint32_t>(values.size() * sizeof(T));
-  std::vector<unsigned char> buffer(sizeof(std::uint32_t) + bytes);
+  const auto bytes = static_cast<std::uint64_t>(values.size() * sizeof(T));
+  std::vector<unsigned char> buffer(sizeof(std::uint64_t) + bytes);
   std::memcpy(buffer.data(), &bytes, sizeof(bytes));
   if (bytes > 0) std::memcpy(buffer.data() + sizeof(bytes), values.data(), bytes);
   return base64_encode(buffer.data(), buffer.size());
@@ -95,7 +96,7 @@ std::string vtu_text(const PointCloud& cloud) {
   out += "<?xml version=\"1.0\"?>\n";
   out +=
       "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" "
-      "header_type=\"UInt32\">\n";
+      "header_type=\"UInt64\">\n";
   out += "  <UnstructuredGrid>\n";
   out += fmt::format("    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n", n, n);
   out += "      <PointData>\n";

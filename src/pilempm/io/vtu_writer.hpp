@@ -2,7 +2,7 @@
 // ParaView output without VTK: point clouds as VTK XML UnstructuredGrid files (.vtu, one vertex
 // cell per point, binary base64 data arrays) and time series as ParaView collections (.pvd).
 // Format rules: VTK file formats, "XML File Formats", UnstructuredGrid; inline binary data is
-// base64 of a UInt32 byte count followed by the raw little-endian values.
+// base64 of a UInt64 byte count (header_type="UInt64") followed by the raw little-endian values.
 #include <filesystem>
 #include <string>
 #include <string_view>

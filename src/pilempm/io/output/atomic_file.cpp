@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <cerrno>
 #include <cstring>
 #include <string>
@@ -22,7 +23,7 @@ std::string system_error_text() {
 
 // Writes all of `content` to a new file and syncs it; false with errno set on failure.
 bool write_and_sync(const fs::path& path, std::string_view content) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
   if (fd < 0) return false;
   const char* data = content.data();
   std::size_t left = content.size();
@@ -49,9 +50,15 @@ bool write_and_sync(const fs::path& path, std::string_view content) {
 
 }  // namespace
 
-void write_file_atomically(const fs::path& path, std::string_view content) {
+fs::path temporary_path_for(const fs::path& path) {
+  static std::atomic<unsigned long> count{0};
   fs::path tmp = path;
-  tmp += ".tmp";
+  tmp += fmt::format(".{}-{}.tmp", ::getpid(), count++);
+  return tmp;
+}
+
+void write_file_atomically(const fs::path& path, std::string_view content) {
+  const fs::path tmp = temporary_path_for(path);
   if (!write_and_sync(tmp, content)) {
     const std::string why = system_error_text();
     std::error_code ignored;

@@ -11,6 +11,7 @@
 #include "pilempm/mpm/explicit/grid_update.hpp"
 #include "pilempm/mpm/explicit/musl_remap.hpp"
 #include "pilempm/mpm/explicit/particles_to_grid.hpp"
+#include "pilempm/mpm/thread_count.hpp"
 
 namespace pilempm::mpm {
 
@@ -73,8 +74,8 @@ Solver::Solver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
   if (settings_.geometry == Geometry::axisymmetric && grid_.x_axis().start() == 0.0)
     grid_.set_axis_of_symmetry(true);
 
-  threads_ = settings_.threads > 0 ? settings_.threads : omp_get_max_threads();
   const std::size_t count = particles_.size();
+  threads_ = settings_.threads > 0 ? settings_.threads : default_thread_count(count);
   stencils_.resize(count);
   start_radius_.resize(count);
   scatter_.resize(threads_, grid_.node_count());

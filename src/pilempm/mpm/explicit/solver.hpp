@@ -84,7 +84,7 @@ struct SolverSettings {
   /// speeds are taken every step). The stiffness changes little in a few steps and the Courant
   /// number leaves a margin; 1 evaluates every step.
   int wave_speed_interval = 10;
-  int threads = 0;  ///< OpenMP threads; 0: omp_get_max_threads()
+  int threads = 0;  ///< OpenMP threads; 0: default_thread_count (mpm/thread_count.hpp)
   /// Volumetric-locking remedy: the volumetric strain increment of each particle is replaced by
   /// the volume-weighted mean over the particles of its grid cell (the deviatoric part is kept),
   /// in the spirit of B-bar/F-bar (Coombs et al. 2018, "F-bar MPM").
