@@ -22,9 +22,12 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace simulation;
 
 namespace fs = std::filesystem;
 using mpm::Geometry;

@@ -4,9 +4,12 @@
 #include <fmt/ranges.h>
 
 #include "pilempm/io/material_reader.hpp"
+#include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/toml_reader.hpp"
 
 namespace pilempm {
+
+using namespace scenario;
 
 namespace {
 
@@ -180,7 +183,8 @@ CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path) {
   return read_centrifuge_case_text(read_case_text(path), path.string());
 }
 
-MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario, const std::string& source_name) {
+simulation::MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario,
+                                           const std::string& source_name) {
   return read_mpm_case_text(centrifuge_mpm_case(scenario), source_name);
 }
 

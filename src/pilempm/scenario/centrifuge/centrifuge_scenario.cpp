@@ -1,4 +1,4 @@
-#include "pilempm/scenario/centrifuge_scenario.hpp"
+#include "pilempm/scenario/centrifuge/centrifuge_scenario.hpp"
 
 #include <fmt/format.h>
 
@@ -9,7 +9,7 @@
 #include "pilempm/constitutive/hypoplastic_parameters.hpp"
 #include "pilempm/core/error.hpp"
 
-namespace pilempm {
+namespace pilempm::scenario {
 
 namespace {
 
@@ -118,16 +118,23 @@ void validate(const CentrifugeScenario& s) {
             "a built-in set or a [[material]] table of the file");
 }
 
-std::vector<std::string> scenario_phase_names(const CentrifugeScenario& s) {
-  std::vector<std::string> names{"initial-stress"};
+std::vector<ScenarioPhase> scenario_phases(const CentrifugeScenario& s) {
+  using simulation::MpmPhaseRole;
+  std::vector<ScenarioPhase> phases{{"initial-stress", MpmPhaseRole::initial_stress}};
   if (s.installation_D > 0.0) {
     const std::vector<double> stops = installation_stops_D(s);
     for (std::size_t k = 0; k + 1 < stops.size(); ++k)
-      names.push_back("installation-to-" + depth_label(stops[k]));
-    names.emplace_back("installation");
-    if (s.relaxation) names.emplace_back("relaxation");
+      phases.push_back({"installation-to-" + depth_label(stops[k]), MpmPhaseRole::installation});
+    phases.push_back({"installation", MpmPhaseRole::installation});
+    if (s.relaxation) phases.push_back({"relaxation", MpmPhaseRole::relaxation});
   }
-  if (s.load_test_D > 0.0) names.emplace_back("load-test");
+  if (s.load_test_D > 0.0) phases.push_back({"load-test", MpmPhaseRole::load_test});
+  return phases;
+}
+
+std::vector<std::string> scenario_phase_names(const CentrifugeScenario& s) {
+  std::vector<std::string> names;
+  for (const ScenarioPhase& phase : scenario_phases(s)) names.push_back(phase.name);
   return names;
 }
 
@@ -238,6 +245,8 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
     line("");
     line("[[phase]]");
     line(fmt::format("name = \"{}\"", name));
+    for (const ScenarioPhase& phase : scenario_phases(s))
+      if (phase.name == name) line(fmt::format("role = \"{}\"", to_string(phase.role)));
     line(fmt::format("duration_s = {:.9g}", duration));
     line(fmt::format("energy_interval_s = {:.9g}", std::min(record_time, duration)));
   };
@@ -289,4 +298,4 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
   return t;
 }
 
-}  // namespace pilempm
+}  // namespace pilempm::scenario

@@ -8,7 +8,9 @@
 #include <string>
 #include <vector>
 
-namespace pilempm {
+#include "pilempm/simulation/mpm_case.hpp"
+
+namespace pilempm::scenario {
 
 /// How the pile moves in one phase of the scenario.
 struct PileMotion {
@@ -116,11 +118,20 @@ double scenario_interface_friction_deg(const CentrifugeScenario& scenario);
 /// container, ...). Throws InvalidValue naming the key of the scenario file.
 void validate(const CentrifugeScenario& scenario);
 
-/// The names of the phases the case will have, in order: "initial-stress", "installation"
-/// (split at the snapshot depths as "installation-to-4.7D", ...), "relaxation", "load-test".
+/// A phase of the case: its name and its role.
+struct ScenarioPhase {
+  std::string name;
+  simulation::MpmPhaseRole role = simulation::MpmPhaseRole::none;
+};
+
+/// The phases the case will have, in order: "initial-stress", "installation" (split at the
+/// snapshot depths as "installation-to-4.7D", ..., each with the installation role),
+/// "relaxation", "load-test".
+std::vector<ScenarioPhase> scenario_phases(const CentrifugeScenario& scenario);
+/// Their names.
 std::vector<std::string> scenario_phase_names(const CentrifugeScenario& scenario);
 
 /// The MPM case file text of the scenario (docs/mpm-case-files.md).
 std::string centrifuge_mpm_case(const CentrifugeScenario& scenario);
 
-}  // namespace pilempm
+}  // namespace pilempm::scenario
