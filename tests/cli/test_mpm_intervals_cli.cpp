@@ -4,10 +4,8 @@
 // test (exit status 124) instead of hanging the suite.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -19,22 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using pilempm_test::read_text;
 using pilempm_test::Result;
-
-// `pilempm ARGUMENTS` stopped after `seconds` (killed 10 s later if need be); exit code 124 when
-// it had to be.
-Result run_with_timeout(const std::string& arguments, int seconds) {
-  const std::string command = "timeout -k 10 " + std::to_string(seconds) + " '" + PILEMPM_BINARY +
-                              "' " + arguments + " 2>&1";
-  Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using pilempm_test::run_pilempm;
 
 // The example column with one line of its [[phase]] table added.
 fs::path column_case_with(const std::string& phase_line, const std::string& name) {
@@ -64,8 +47,7 @@ void expect_clear_error(const std::string& key) {
   const fs::path file = column_case_with(key + " = 1e-300", key);
   const fs::path out = fs::temp_directory_path() /
                        ("pilempm-interval-out-" + key + "-" + std::to_string(::getpid()));
-  const Result r =
-      run_with_timeout("mpm run '" + file.string() + "' --out '" + out.string() + "'", 120);
+  const Result r = run_pilempm("mpm run '" + file.string() + "' --out '" + out.string() + "'", 120);
   EXPECT_NE(r.exit_code, 124) << "did not end: " << r.output;
   EXPECT_NE(r.exit_code, 0) << r.output;
   // The file, the key and the smallest value allowed.

@@ -46,6 +46,10 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
       if (const toml::table* table = m.as_table()) s.material_tables.push_back(table_lines(*table));
   if (const toml::table* integrator = document["integrator"].as_table())
     s.integrator_table = table_lines(*integrator);
+  for (const std::string& name : catalog.names())
+    if (const MaterialSpec* material = catalog.find(name); !material->builtin)
+      s.materials.push_back(*material);
+  s.integrator = catalog.integrator();
 
   if (auto t = root.table("test")) {
     s.pile_diameter =

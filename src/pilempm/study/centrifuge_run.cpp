@@ -365,7 +365,7 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
                                  const std::filesystem::path& out_dir, std::ostream* progress,
                                  const CentrifugeRunOptions& options) {
   const std::string mpm_text = centrifuge_mpm_case(s);
-  const MpmCase mpm_case = read_mpm_case_text(mpm_text, (out_dir / "mpm_case.toml").string());
+  const MpmCase mpm_case = centrifuge_case(s, (out_dir / "mpm_case.toml").string());
   prepare_output_directory(out_dir);
   if (!case_text.empty()) write_file_atomically(out_dir / "case.toml", case_text);
   write_file_atomically(out_dir / "mpm_case.toml", mpm_text);
