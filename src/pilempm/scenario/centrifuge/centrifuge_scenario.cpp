@@ -142,23 +142,38 @@ std::vector<std::string> scenario_phase_names(const CentrifugeScenario& s) {
   return names;
 }
 
-std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
-  validate(s);
+namespace {
+
+// The grid of the scenario: the cell size of the fine zone, the sand and the container, and the
+// fine band in y, from below the deepest tip to the top of the grid, with the sand surface on a
+// grid line and at least two cells of graded grid below it.
+struct ScenarioGrid {
+  double h, H, R, band_bottom, top, fine_radius;
+};
+
+ScenarioGrid scenario_grid(const CentrifugeScenario& s) {
   const double D = s.pile_diameter;
   const double h = D / s.cells_per_D;
   const double H = s.sand_height();
-  const double R = s.container_radius();
   const double deepest = s.wished_in_place_D + s.installation_D;
-
-  // The fine band in y: from below the deepest tip to the top of the grid, with the sand
-  // surface on a grid line; at least two cells of graded grid stay below it.
   const int cells_above = static_cast<int>(std::ceil(s.headroom_D * s.cells_per_D - 1e-9));
   int cells_below =
       static_cast<int>(std::ceil((deepest + s.fine_depth_below_tip_D) * s.cells_per_D - 1e-9));
   cells_below = std::min(cells_below, static_cast<int>(std::floor(H / h + 1e-9)) - 2);
-  const double band_bottom = H - cells_below * h;
-  const double top = H + cells_above * h;
-  const double fine_radius = std::round(s.fine_radius_D * s.cells_per_D) * h;
+  return {h,
+          H,
+          s.container_radius(),
+          H - cells_below * h,
+          H + cells_above * h,
+          std::round(s.fine_radius_D * s.cells_per_D) * h};
+}
+
+}  // namespace
+
+std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
+  validate(s);
+  const double D = s.pile_diameter;
+  const auto [h, H, R, band_bottom, top, fine_radius] = scenario_grid(s);
 
   std::string t;
   auto line = [&t](const std::string& text) {
@@ -324,18 +339,7 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
   validate(s);
   const auto v = file_value;
   const double D = s.pile_diameter;
-  const double h = D / s.cells_per_D;
-  const double H = s.sand_height();
-  const double R = s.container_radius();
-  const double deepest = s.wished_in_place_D + s.installation_D;
-  // The grid as centrifuge_mpm_case describes it.
-  const int cells_above = static_cast<int>(std::ceil(s.headroom_D * s.cells_per_D - 1e-9));
-  int cells_below =
-      static_cast<int>(std::ceil((deepest + s.fine_depth_below_tip_D) * s.cells_per_D - 1e-9));
-  cells_below = std::min(cells_below, static_cast<int>(std::floor(H / h + 1e-9)) - 2);
-  const double band_bottom = H - cells_below * h;
-  const double top = H + cells_above * h;
-  const double fine_radius = std::round(s.fine_radius_D * s.cells_per_D) * h;
+  const auto [h, H, R, band_bottom, top, fine_radius] = scenario_grid(s);
 
   MpmCase c;
   c.source = source_name;
