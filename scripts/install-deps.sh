@@ -8,6 +8,7 @@ packages=(
   libeigen3-dev libtomlplusplus-dev libcli11-dev libfmt-dev
   libgtest-dev googletest libbenchmark-dev
   libhdf5-dev
+  libceres-dev libnlopt-cxx-dev
   python3-matplotlib
 )
 

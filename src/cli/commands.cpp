@@ -4,6 +4,7 @@ namespace pilempm::cli {
 
 // Defined in the command files of this folder, one per group of subcommands.
 void register_analytic_commands(CLI::App& app);    // analytic_commands.cpp
+void register_calibrate_commands(CLI::App& app);   // calibrate_commands.cpp
 void register_centrifuge_commands(CLI::App& app);  // centrifuge_commands.cpp
 void register_element_commands(CLI::App& app);     // element_commands.cpp
 void register_mpm_commands(CLI::App& app);         // mpm_commands.cpp
@@ -15,6 +16,7 @@ void register_commands(CLI::App& app) {
   register_centrifuge_commands(app);
   register_mpm_commands(app);
   register_study_commands(app);
+  register_calibrate_commands(app);
 }
 
 }  // namespace pilempm::cli

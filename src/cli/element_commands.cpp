@@ -84,7 +84,8 @@ void add_common_flags(CLI::App* sub, CommonFlags& f, const char* default_steps) 
       "intergranular strain (required): " + fmt::format("{}", fmt::join(igs_choice_names(), ", ")));
   sub->add_option("--igs-initial", f.igs_initial,
                   "initial intergranular strain: compression (fully mobilised by the isotropic "
-                  "compression that made the sample) or zero")
+                  "compression that made the sample), zero, or first-increment (fully mobilised "
+                  "along the test's first strain increment)")
       ->capture_default_str();
   sub->add_option("--e0", f.e0, "initial void ratio (required)");
   sub->add_option("--e0-at", f.e0_at,
@@ -123,9 +124,11 @@ ElementCase build_case(const std::string& type, const CommonFlags& f, const Test
       "--igs", f.igs,
       fmt::format("give the intergranular strain, one of {}", fmt::join(igs_choice_names(), ", ")));
   c.igs = named_igs(parse_choice("--igs", f.igs, igs_choice_names()));
-  c.initial.igs = parse_choice("--igs-initial", f.igs_initial, {"compression", "zero"}) == "zero"
-                      ? InitialCondition::Igs::zero
-                      : InitialCondition::Igs::compression;
+  const std::string igs_initial =
+      parse_choice("--igs-initial", f.igs_initial, {"compression", "zero", "first-increment"});
+  c.initial.igs = igs_initial == "zero"              ? InitialCondition::Igs::zero
+                  : igs_initial == "first-increment" ? InitialCondition::Igs::first_increment
+                                                     : InitialCondition::Igs::compression;
   c.initial.e0 =
       parse_number("--e0", required("--e0", f.e0, "give the initial void ratio e0 (> 0)"),
                    NumberRange::positive());

@@ -109,6 +109,33 @@ void require_steps(int steps, const char* key) {
   if (steps < 1) throw InvalidValue(key, std::to_string(steps), ">= 1");
 }
 
+// With igs = first-increment: delta = R de/||de|| along the strain increment de of the test's
+// first increment. Under mixed control de depends on the stiffness, which depends on delta, so
+// the direction is a fixed point, found by repeating the first increment from copies of the start.
+void align_with_first_increment(const ConstitutiveModel& model, const InitialCondition& initial,
+                                MaterialState& start, const MixedIncrement& first) {
+  const Hypoplastic* hypo = as_hypoplastic(model);
+  if (initial.igs != InitialCondition::Igs::first_increment || hypo == nullptr ||
+      !hypo->intergranular().enabled())
+    return;
+  const double R = hypo->intergranular().R;
+  Vec6 direction = first.strain_increment;
+  for (int i = 0; i < 6; ++i)
+    if (first.stress_controlled[static_cast<std::size_t>(i)]) direction[i] = 0.0;
+  if (!(direction.norm() > 0.0)) direction = -identity6();
+  direction.normalize();
+  for (int iteration = 0; iteration < 20; ++iteration) {
+    start.intergranular_strain = R * direction;
+    MixedControlDriver probe(model, start);
+    probe.apply(first);
+    const Vec6 next = probe.last_strain_increment().normalized();
+    const bool converged = (next - direction).norm() < 1e-9;
+    direction = next;
+    if (converged) break;
+  }
+  start.intergranular_strain = R * direction;
+}
+
 }  // namespace
 
 std::string test_type_name(const ElementTest& test) {
@@ -168,10 +195,31 @@ MaterialState initial_state(const ConstitutiveModel& model, const Vec6& stress,
   if (const Hypoplastic* hypo = as_hypoplastic(model)) {
     state.void_ratio =
         initial_void_ratio(hypo->parameters(), initial.e0, initial.e0_at, mean_stress(stress));
+    const double R = hypo->intergranular().R;
     if (hypo->intergranular().enabled() && initial.igs == InitialCondition::Igs::compression)
-      state.intergranular_strain = -hypo->intergranular().R / kSqrt3 * identity6();
+      state.intergranular_strain = -R / kSqrt3 * identity6();
+    if (hypo->intergranular().enabled() && initial.igs == InitialCondition::Igs::tensor) {
+      if (!(initial.igs_tensor.norm() <= R * (1.0 + 1e-12)))
+        throw InvalidValue("igs_initial", format_value(initial.igs_tensor.norm()),
+                           "a tensor with norm <= R = " + format_value(R));
+      state.intergranular_strain = initial.igs_tensor;
+    }
   }
   return state;
+}
+
+std::string_view to_string(InitialCondition::Igs igs) {
+  switch (igs) {
+    case InitialCondition::Igs::compression:
+      return "compression";
+    case InitialCondition::Igs::zero:
+      return "zero";
+    case InitialCondition::Igs::first_increment:
+      return "first-increment";
+    case InitialCondition::Igs::tensor:
+      return "tensor";
+  }
+  return "?";
 }
 
 ElementResult run_element_test(const ConstitutiveModel& model, const ElementTest& test,
@@ -183,10 +231,13 @@ ElementResult run_element_test(const ConstitutiveModel& model, const ElementTest
     const ProgressCallback& progress;
 
     ElementResult operator()(const IsotropicCompressionTest& t) const {
-      const MaterialState start = initial_state(model, -t.p0 * identity6(), initial);
+      MaterialState start = initial_state(model, -t.p0 * identity6(), initial);
+      const double ratio = std::pow(t.p_end / t.p0, 1.0 / t.steps);
+      align_with_first_increment(
+          model, initial, start,
+          normal_components({true, true, true}, Vec3::Constant(-t.p0 * ratio), Vec3::Zero()));
       MixedControlDriver driver(model, start);
       Recorder recorder(driver, t.steps, progress);
-      const double ratio = std::pow(t.p_end / t.p0, 1.0 / t.steps);
       double p = t.p0;
       for (int i = 0; i < t.steps; ++i) {
         p *= ratio;
@@ -197,7 +248,12 @@ ElementResult run_element_test(const ConstitutiveModel& model, const ElementTest
 
     ElementResult operator()(const OedometerTest& t) const {
       const double h0 = t.K0 * t.sigma_v0;
-      const MaterialState start = initial_state(model, -diagonal6(t.sigma_v0, h0, h0), initial);
+      MaterialState start = initial_state(model, -diagonal6(t.sigma_v0, h0, h0), initial);
+      const double first =
+          t.sigma_v0 + (t.sigma_v_targets.front() - t.sigma_v0) / t.steps_per_segment;
+      align_with_first_increment(
+          model, initial, start,
+          normal_components({true, false, false}, Vec3(-first, 0, 0), Vec3::Zero()));
       MixedControlDriver driver(model, start);
       const long total = static_cast<long>(t.sigma_v_targets.size()) * t.steps_per_segment;
       Recorder recorder(driver, total, progress);
@@ -214,10 +270,14 @@ ElementResult run_element_test(const ConstitutiveModel& model, const ElementTest
     }
 
     ElementResult operator()(const DrainedTriaxialTest& t) const {
-      const MaterialState start = initial_state(model, -t.sigma3 * identity6(), initial);
+      MaterialState start = initial_state(model, -t.sigma3 * identity6(), initial);
+      const double d_axial = -t.axial_strain / t.steps;
+      align_with_first_increment(
+          model, initial, start,
+          normal_components({false, true, true}, Vec3(0, -t.sigma3, -t.sigma3),
+                            Vec3(d_axial, 0, 0)));
       MixedControlDriver driver(model, start);
       Recorder recorder(driver, t.steps, progress);
-      const double d_axial = -t.axial_strain / t.steps;
       for (int i = 0; i < t.steps; ++i)
         recorder.apply(normal_components({false, true, true}, Vec3(0, -t.sigma3, -t.sigma3),
                                          Vec3(d_axial, 0, 0)));
@@ -225,17 +285,23 @@ ElementResult run_element_test(const ConstitutiveModel& model, const ElementTest
     }
 
     ElementResult operator()(const UndrainedTriaxialTest& t) const {
-      const MaterialState start = initial_state(model, -t.p0 * identity6(), initial);
+      MaterialState start = initial_state(model, -t.p0 * identity6(), initial);
+      const double d_axial = -t.axial_strain / t.steps;
+      align_with_first_increment(
+          model, initial, start,
+          strain_controlled(diagonal6(d_axial, -0.5 * d_axial, -0.5 * d_axial)));
       MixedControlDriver driver(model, start);
       Recorder recorder(driver, t.steps, progress);
-      const double d_axial = -t.axial_strain / t.steps;
       for (int i = 0; i < t.steps; ++i)
         recorder.apply(strain_controlled(diagonal6(d_axial, -0.5 * d_axial, -0.5 * d_axial)));
       return recorder.finish(start.void_ratio, t.p0);
     }
 
     ElementResult operator()(const StrainPathTest& t) const {
-      const MaterialState start = initial_state(model, t.initial_stress, initial);
+      MaterialState start = initial_state(model, t.initial_stress, initial);
+      align_with_first_increment(
+          model, initial, start,
+          strain_controlled(t.segments.front().strain / t.segments.front().steps));
       MixedControlDriver driver(model, start);
       long total = 0;
       for (const auto& s : t.segments) total += s.steps;

@@ -8,6 +8,7 @@
 // the convention of the laboratory.
 #include <functional>
 #include <string>
+#include <string_view>
 #include <variant>
 #include <vector>
 
@@ -21,9 +22,16 @@ struct InitialCondition {
   double e0 = 0.7;  ///< initial void ratio, in the convention below
   VoidRatioConvention e0_at = VoidRatioConvention::at_initial_stress;
   /// Intergranular strain at the start: fully mobilised by the isotropic compression that made
-  /// the sample (delta = -R I/sqrt3, rho = 1), or zero (rho = 0, the stiffest start).
-  enum class Igs { compression, zero } igs = Igs::compression;
+  /// the sample (delta = -R I/sqrt3, rho = 1), zero (rho = 0, the stiffest start), fully
+  /// mobilised along the first strain increment of the test (delta = R de/||de||, e.g. axial in
+  /// an oedometer, the start of the soilmodels.info UMAT driver and of PLAXIS' element tests),
+  /// or the tensor `igs_tensor`.
+  enum class Igs { compression, zero, first_increment, tensor } igs = Igs::compression;
+  Vec6 igs_tensor = Vec6::Zero();  ///< Mandel, tension positive; ||delta|| <= R
 };
+
+/// "compression", "zero", "first-increment", "tensor".
+std::string_view to_string(InitialCondition::Igs igs);
 
 struct IsotropicCompressionTest {
   double p0 = 10e3;     ///< start [Pa]

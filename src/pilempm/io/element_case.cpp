@@ -22,7 +22,7 @@ constexpr int kMaxSteps = 10'000'000;
 const std::vector<std::string> kTestTypes = {"isotropic", "oedometer", "triaxial",
                                              "undrained-triaxial", "strain-path"};
 const std::vector<std::string> kConventions = {"initial-stress", "zero-pressure"};
-const std::vector<std::string> kIgsInitial = {"compression", "zero"};
+const std::vector<std::string> kIgsInitial = {"compression", "zero", "first-increment"};
 // Keys [defaults] may set for every test.
 const std::vector<std::string> kDefaultKeys = {"set", "igs", "e0", "e0_at", "igs_initial"};
 
@@ -47,6 +47,25 @@ Vec6 mandel_from_compression_positive(const std::vector<double>& c, double scale
   for (std::size_t i = 0; i < c.size(); ++i)
     v[static_cast<Eigen::Index>(i)] = -c[i] * scale * (i < 3 ? 1.0 : kSqrt2);
   return v;
+}
+
+// igs_initial: a name (compression, zero, first-increment) or the tensor delta as 3 or 6
+// components, compression positive like the strains of a strain path.
+void read_igs_initial(TableReader& t, InitialCondition& initial) {
+  const toml::node* node = t.node("igs_initial");
+  if (node != nullptr && node->is_array()) {
+    const std::vector<double> d = t.number_array("igs_initial", NumberRange::open(-1.0, 1.0), 3, 6);
+    if (d.size() != 3 && d.size() != 6)
+      throw t.error("igs_initial",
+                    "wrong size: give 3 (d11, d22, d33) or 6 (..., d23, d13, d12) components");
+    initial.igs = InitialCondition::Igs::tensor;
+    initial.igs_tensor = mandel_from_compression_positive(d, 1.0);
+    return;
+  }
+  const std::string name = t.optional_choice("igs_initial", kIgsInitial).value_or("compression");
+  initial.igs = name == "zero"              ? InitialCondition::Igs::zero
+                : name == "first-increment" ? InitialCondition::Igs::first_increment
+                                            : InitialCondition::Igs::compression;
 }
 
 // The keys of each test type (besides the common ones).
@@ -162,11 +181,7 @@ ElementCase read_test(TableReader& t, TableReader* defaults, const MaterialCatal
                                          "an inline table, in the test, its [[material]] or "
                                          "[defaults]",
                                          fmt::join(igs_choice_names(), ", ")));
-    const std::string igs_initial = layers.at("igs_initial")
-                                        .optional_choice("igs_initial", kIgsInitial)
-                                        .value_or("compression");
-    c.initial.igs =
-        igs_initial == "zero" ? InitialCondition::Igs::zero : InitialCondition::Igs::compression;
+    read_igs_initial(layers.at("igs_initial"), c.initial);
   } else {
     for (const char* key : {"igs", "igs_initial"})
       if (t.contains(key))
@@ -206,8 +221,10 @@ ElementCase read_test(TableReader& t, TableReader* defaults, const MaterialCatal
 
   try {
     c.model = make_model(c.material, c.igs, c.integrator);
+    if (c.initial.igs == InitialCondition::Igs::tensor)
+      (void)initial_state(*c.model, initial_stress_of(c.test), c.initial);  // ||delta|| <= R
   } catch (const InvalidValue& e) {
-    throw t.error_from(e);
+    throw layers.at("igs_initial").error_from(e);
   }
   if (const std::string problem = initial_void_ratio_problem(c); !problem.empty())
     throw e0_reader.error("e0", problem);
@@ -221,6 +238,29 @@ std::string lower(std::string_view s) {
 }
 
 }  // namespace
+
+const std::vector<std::string>& element_test_types() {
+  return kTestTypes;
+}
+
+std::vector<std::string> element_test_programme_keys(const std::string& type) {
+  return programme_keys(type);
+}
+
+ElementTest read_element_test_programme(TableReader& table, const std::string& type,
+                                        std::optional<double> jaky_K0) {
+  ElementTest test = read_test_programme(table, type, jaky_K0);
+  try {
+    validate(test);
+  } catch (const InvalidValue& e) {
+    throw table.error_from(e, kTestKeys);
+  }
+  return test;
+}
+
+void read_element_initial_igs(TableReader& table, InitialCondition& initial) {
+  read_igs_initial(table, initial);
+}
 
 std::string test_name_problem(std::string_view name) {
   const bool characters_ok = std::all_of(name.begin(), name.end(), [](char ch) {

@@ -47,6 +47,16 @@ std::string_view builtin_element_case_text();
 /// What messages call the built-in case.
 inline constexpr const char* kBuiltinElementCaseName = "<built-in examples/element_tests.toml>";
 
+/// The test types of case files ("isotropic", "oedometer", ...) and the programme keys of each.
+const std::vector<std::string>& element_test_types();
+std::vector<std::string> element_test_programme_keys(const std::string& type);
+/// Reads and checks the loading programme of a test table of the given type (used by other case
+/// readers, e.g. calibration cases); `jaky_K0` is the oedometer's default K0 (nullopt: required).
+ElementTest read_element_test_programme(TableReader& table, const std::string& type,
+                                        std::optional<double> jaky_K0);
+/// Reads the optional igs_initial key (a name or a tensor) into `initial`.
+void read_element_initial_igs(TableReader& table, InitialCondition& initial);
+
 /// Why a test name cannot be used ("" when it can): it names output files, so it must be 1 to
 /// 100 characters of letters, digits, '-', '_', '.', start with a letter or digit, and not be
 /// one of the names the output uses for itself ("summary", "case").

@@ -404,7 +404,7 @@ std::string summary_json(const ElementRunRecord& r) {
   j.object("initial");
   j.number("e0", c.initial.e0).string("e0_at", to_string(c.initial.e0_at));
   if (c.material.kind == ModelKind::hypoplastic)
-    j.string("igs_initial", c.initial.igs == InitialCondition::Igs::zero ? "zero" : "compression");
+    j.string("igs_initial", std::string(to_string(c.initial.igs)));
   if (r.ok) j.number("void_ratio", s.initial_void_ratio);
   j.number("p_kPa", mean_stress(initial_stress_of(c.test)) / kKPa);
   j.end();
