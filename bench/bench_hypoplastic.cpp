@@ -9,7 +9,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 
 namespace {
 
@@ -19,7 +19,7 @@ MaterialState initial_state(const Hypoplastic& model) {
   MaterialState s;
   s.stress = -100e3 * identity6();
   s.void_ratio = 0.68;
-  s.intergranular_strain = -model.intergranular().R / kSqrt3 * identity6();
+  Hypoplastic::intergranular_strain(s) = -model.intergranular().R / kSqrt3 * identity6();
   return s;
 }
 

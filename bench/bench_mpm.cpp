@@ -9,8 +9,8 @@
 
 #include <memory>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace {
@@ -57,7 +57,7 @@ Solver make_column(Geometry geometry, bool hypoplastic, int threads) {
     const double vertical = -unit_weight * (kHeight - particles.position[p].y()) - 1e3;
     MaterialState& state = particles.state[p];
     state.stress = diagonal6(kEarthPressure * vertical, vertical, kEarthPressure * vertical);
-    state.intergranular_strain = diagonal6(0.0, -igs_size, 0.0);
+    Hypoplastic::intergranular_strain(state) = diagonal6(0.0, -igs_size, 0.0);
   }
 
   SolverSettings settings;

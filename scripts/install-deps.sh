@@ -9,6 +9,7 @@ packages=(
   libgtest-dev googletest libbenchmark-dev
   libhdf5-dev
   libceres-dev libnlopt-cxx-dev
+  libsuitesparse-dev
   python3-matplotlib
 )
 

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <span>
 #include <string>
@@ -18,9 +17,11 @@
 #include "pilempm/analytic/bauer.hpp"
 #include "pilempm/analytic/bolton.hpp"
 #include "pilempm/analytic/herle_gudehus.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
-#include "pilempm/constitutive/rohe_void_ratios.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/rohe_void_ratios.hpp"
 #include "pilempm/core/error.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
+#include "pilempm/io/output/format.hpp"
 
 namespace pilempm::cli {
 
@@ -38,10 +39,10 @@ struct Cell {
 };
 
 Cell number(double value, int decimals) {
-  return {fmt::format("{:.{}f}", value, decimals), format_value(value)};
+  return {fixed_number(value, decimals), csv_number(value)};
 }
 Cell input_value(double value) {
-  return {format_value(value), format_value(value)};
+  return {format_value(value), csv_number(value)};
 }
 Cell text(std::string_view value) {
   return {std::string(value), std::string(value)};
@@ -74,15 +75,13 @@ class Table {
   }
 
   void write_csv(const std::string& path) const {
-    std::ofstream file(path);
-    if (!file) throw Error(fmt::format("cannot open CSV file '{}' for writing", path));
-    file << fmt::format("{}\n", fmt::join(columns_, ","));
+    std::string text = csv_row(columns_);
     for (const auto& row : rows_) {
-      std::vector<std::string_view> values;
+      std::vector<std::string> values;
       for (const auto& cell : row) values.push_back(cell.csv);
-      file << fmt::format("{}\n", fmt::join(values, ","));
+      text += csv_row(values);
     }
-    if (!file) throw Error(fmt::format("cannot write CSV file '{}'", path));
+    write_file_atomically(path, text);
   }
 
  private:

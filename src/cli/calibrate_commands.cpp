@@ -14,6 +14,7 @@
 #include "pilempm/io/calibration_case.hpp"
 #include "pilempm/io/calibration_output.hpp"
 #include "pilempm/io/element_output.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/material_reader.hpp"
 #include "pilempm/study/plotting.hpp"
 
@@ -49,11 +50,11 @@ calibration::ParameterSet truth_set(const CalibrateFlags& f,
     catalog.read(root);
     const std::vector<std::string> names = catalog.names();
     const MaterialSpec* m = catalog.find(names.front());
-    if (m == nullptr || m->builtin || m->kind != ModelKind::hypoplastic)
+    if (m == nullptr || m->builtin || !m->is_hypoplastic())
       throw InputError(f.truth, 0, "material", "",
                        "missing: --make-data FILE needs a hypoplastic [[material]] in FILE");
-    truth.hypoplastic = m->hypoplastic;
-    if (m->igs) truth.igs = m->igs->parameters;
+    truth.hypoplastic = m->hypoplastic();
+    if (m->hypoplastic_material().igs) truth.igs = m->hypoplastic_material().igs->parameters;
   } else {
     try {
       truth.hypoplastic = hypoplastic_set(f.truth);

@@ -17,6 +17,7 @@
 #include "cli/commands.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/io/output/format.hpp"
 #include "pilempm/io/toml_reader.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 
@@ -35,7 +36,7 @@ struct CentrifugeFlags {
 };
 
 std::string shown(double value, const char* format) {
-  return std::isfinite(value) ? fmt::format(fmt::runtime(format), value) : std::string("-");
+  return shown_number(value, format);
 }
 
 void run_centrifuge_command(const CentrifugeFlags& flags) {

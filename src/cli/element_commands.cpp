@@ -20,6 +20,7 @@
 #include "pilempm/io/element_output.hpp"
 #include "pilempm/io/element_run.hpp"
 #include "pilempm/io/material_reader.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 
 namespace pilempm::cli {
 
@@ -173,7 +174,7 @@ ElementCase build_case(const std::string& type, const CommonFlags& f, const Test
     OedometerTest x;
     x.sigma_v0 = kpa("--sigma-v0-kPa", t.sigma_v0);
     // Jaky's K0 = 1 - sin(phi_c) unless given.
-    x.K0 = t.K0.empty() ? 1.0 - std::sin(c.material.hypoplastic.phi_c_deg * kPi / 180.0)
+    x.K0 = t.K0.empty() ? 1.0 - std::sin(c.material.hypoplastic().phi_c_deg * kPi / 180.0)
                         : parse_number("--K0", t.K0, NumberRange::left_open(0.0, 5.0));
     required("--sigma-v-kPa", t.sigma_v,
              "the vertical stress targets in kPa, e.g. 400 or 400,100,400");

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "pilempm/constitutive/rohe_void_ratios.hpp"
+#include "pilempm/constitutive/hypoplastic/rohe_void_ratios.hpp"
 #include "pilempm/core/error.hpp"
 
 namespace pilempm {

@@ -218,8 +218,8 @@ TEST(CalibrationOutput, ParametersTomlRunsUnchangedInAnElementTest) {
   const ElementCaseFile file = parse_element_case(text, "parameters.toml + test");
   ASSERT_EQ(file.tests.size(), 1u);
   const ElementCase& c = file.tests.front();
-  EXPECT_DOUBLE_EQ(c.material.hypoplastic.phi_c_deg, 32.25);
-  EXPECT_DOUBLE_EQ(c.material.hypoplastic.alpha, 0.1375);
+  EXPECT_DOUBLE_EQ(c.material.hypoplastic().phi_c_deg, 32.25);
+  EXPECT_DOUBLE_EQ(c.material.hypoplastic().alpha, 0.1375);
   ASSERT_TRUE(c.igs);
   EXPECT_DOUBLE_EQ(c.igs->parameters.R, 1e-4);
   const ElementResult from_file = run_element_test(*c.model, c.test, c.initial);

@@ -11,7 +11,7 @@
 #include <sstream>
 #include <string>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 
 namespace pilempm {
 namespace {
@@ -43,8 +43,9 @@ std::string describe(const MaterialState& before, const Vec6& increment, const M
   out.precision(17);
   out << what << ": message '" << result.message << "'\n  stress before "
       << before.stress.transpose() << "\n  e before " << before.void_ratio << ", delta before "
-      << before.intergranular_strain.transpose() << "\n  increment " << increment.transpose()
-      << "\n  stress after " << after.stress.transpose() << "\n  e after " << after.void_ratio;
+      << Hypoplastic::intergranular_strain(before).transpose() << "\n  increment "
+      << increment.transpose() << "\n  stress after " << after.stress.transpose() << "\n  e after "
+      << after.void_ratio;
   return out.str();
 }
 
@@ -65,7 +66,7 @@ FuzzReport fuzz(const Hypoplastic& model, const std::vector<FuzzStart>& starts, 
       state.stress = -start.p * identity6();
       const auto band = limit_void_ratios(par, start.p);
       state.void_ratio = band.e_d + start.density_position * (band.e_i - band.e_d);
-      state.intergranular_strain = -R / kSqrt3 * identity6();
+      Hypoplastic::intergranular_strain(state) = -R / kSqrt3 * identity6();
       return state;
     };
     MaterialState state = fresh();
@@ -103,7 +104,7 @@ FuzzReport fuzz(const Hypoplastic& model, const std::vector<FuzzStart>& starts, 
       if (!result.ok) {
         broken = "update failed";
       } else if (!state.stress.allFinite() || !std::isfinite(state.void_ratio) ||
-                 !state.intergranular_strain.allFinite()) {
+                 !Hypoplastic::intergranular_strain(state).allFinite()) {
         broken = "non-finite state";
       } else if (p < p_min * (1.0 - 1e-12)) {
         broken = "mean stress below the floor";
@@ -114,7 +115,7 @@ FuzzReport fuzz(const Hypoplastic& model, const std::vector<FuzzStart>& starts, 
         if (state.void_ratio < band.e_d * (1.0 - 1e-12) ||
             state.void_ratio > band.e_i * (1.0 + 1e-12))
           broken = "void ratio outside [e_d(p), e_i(p)]";
-        else if (state.intergranular_strain.norm() > R * (1.0 + 1e-12))
+        else if (Hypoplastic::intergranular_strain(state).norm() > R * (1.0 + 1e-12))
           broken = "||delta|| > R";
       }
       if (broken != nullptr) {

@@ -7,8 +7,8 @@
 #include <limits>
 #include <string>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 #include "pilempm/core/error.hpp"
 
 namespace pilempm {

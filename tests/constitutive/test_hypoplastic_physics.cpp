@@ -13,7 +13,7 @@
 #include <random>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 
 namespace pilempm {
 namespace {
@@ -223,7 +223,7 @@ BauerRun isotropic_compression_on_e_i(const Hypoplastic& model, double p0, doubl
   initial.stress = -p0 * identity6();
   initial.void_ratio = initial_void_ratio(par, par.e_i0, VoidRatioConvention::at_zero_pressure, p0);
   if (model.intergranular().enabled())  // fully mobilised by the isotropic compression
-    initial.intergranular_strain = -model.intergranular().R / kSqrt3 * identity6();
+    Hypoplastic::intergranular_strain(initial) = -model.intergranular().R / kSqrt3 * identity6();
   MixedControlPoint driver(model, initial, kControlTolerance);
   MixedStep increment;
   increment.stress_controlled = {true, true, true, false, false, false};  // shears: zero strain
@@ -316,7 +316,7 @@ std::vector<TriaxialPoint> drained_triaxial(const Hypoplastic& model, double sig
   initial.stress = -sigma3 * identity6();
   initial.void_ratio = e0;
   if (model.intergranular().enabled())
-    initial.intergranular_strain = -model.intergranular().R / kSqrt3 * identity6();
+    Hypoplastic::intergranular_strain(initial) = -model.intergranular().R / kSqrt3 * identity6();
   MixedControlPoint driver(model, initial, kControlTolerance);
   MixedStep increment;
   increment.stress_controlled = {false, true, true, false, false, false};
@@ -433,10 +433,12 @@ TEST(HypoplasticPhysics, RotatedStrainPathGivesTheRotatedStress) {
     MaterialState original;
     original.stress = anisotropic_stress();
     original.void_ratio = 0.70;
-    if (model.intergranular().enabled()) original.intergranular_strain = 0.6e-4 * random_unit6(rng);
+    if (model.intergranular().enabled())
+      Hypoplastic::intergranular_strain(original) = 0.6e-4 * random_unit6(rng);
     MaterialState rotated = original;
     rotated.stress = rotate(original.stress, Q);
-    rotated.intergranular_strain = rotate(original.intergranular_strain, Q);
+    Hypoplastic::intergranular_strain(rotated) =
+        rotate(Hypoplastic::intergranular_strain(original), Q);
 
     // A wandering path: mostly compression and shear, with reversals, 300 increments.
     Vec6 base;
@@ -453,11 +455,12 @@ TEST(HypoplasticPhysics, RotatedStrainPathGivesTheRotatedStress) {
     }
     const double stress_difference =
         relative_difference(rotated.stress, rotate(original.stress, Q));
-    const double delta_difference =
-        model.intergranular().enabled()
-            ? (rotated.intergranular_strain - rotate(original.intergranular_strain, Q)).norm() /
-                  model.intergranular().R
-            : 0.0;
+    const double delta_difference = model.intergranular().enabled()
+                                        ? (Hypoplastic::intergranular_strain(rotated) -
+                                           rotate(Hypoplastic::intergranular_strain(original), Q))
+                                                  .norm() /
+                                              model.intergranular().R
+                                        : 0.0;
     std::printf(
         "[ measured ] objectivity %s: %d sub-steps, |R T R^T - T_rot|/|T| = %.2e, "
         "|R d R^T - d_rot|/R = %.2e, e difference %.2e\n",
@@ -483,7 +486,7 @@ TEST(HypoplasticPhysics, IntergranularStrainStiffnessFactorsAtFullMobilisation) 
                               : rotate(anisotropic_stress(), random_rotation(rng));
     state.void_ratio = 0.65 + 0.01 * trial;
     const Vec6 d_hat = trial == 0 ? Vec6(-identity6() / kSqrt3) : random_unit6(rng);
-    state.intergranular_strain = igs.R * d_hat;  // rho = 1
+    Hypoplastic::intergranular_strain(state) = igs.R * d_hat;  // rho = 1
     const auto terms = model.basic_terms(state);
     const double scale = (terms.L * d_hat).norm();
 
@@ -527,7 +530,7 @@ TEST(HypoplasticPhysics, IntergranularStrainGeneralRateEqualsTheBriefMatrixForm)
       state.void_ratio = 0.6 + 0.3 * uniform(rng);
       const double rho = trial == 0 ? 0.0 : uniform(rng);
       const Vec6 delta_hat = random_unit6(rng);
-      state.intergranular_strain = rho * igs.R * delta_hat;
+      Hypoplastic::intergranular_strain(state) = rho * igs.R * delta_hat;
       const Vec6 D = 1e-4 * random_unit6(rng);
       const auto terms = model.basic_terms(state);
       const double rc = std::pow(rho, igs.chi);
@@ -574,7 +577,7 @@ TEST(HypoplasticPhysics, WithoutIntergranularStrainTheRateIsLDPlusNNormD) {
     MaterialState state;
     state.stress = rotate(anisotropic_stress(), random_rotation(rng));
     state.void_ratio = 0.6 + 0.005 * trial;
-    state.intergranular_strain = 1e-4 * random_unit6(rng);  // ignored when R = 0
+    Hypoplastic::intergranular_strain(state) = 1e-4 * random_unit6(rng);  // ignored when R = 0
     const Vec6 D = 1e-4 * random_unit6(rng);
     const auto terms = model.basic_terms(state);
     const auto rate = model.rate(state, D);
@@ -595,7 +598,7 @@ TEST(HypoplasticPhysics, WaveModulusBoundsTheConstrainedModulus) {
       MaterialState state;
       state.stress = rotate(anisotropic_stress(), random_rotation(rng));
       state.void_ratio = 0.6 + 0.003 * trial;
-      state.intergranular_strain = (trial % 3) * 0.5e-4 * random_unit6(rng);
+      Hypoplastic::intergranular_strain(state) = (trial % 3) * 0.5e-4 * random_unit6(rng);
       const double bound = model.wave_modulus(state);
       const Vec6 D = random_unit6(rng);
       // |T°| / |D| for every direction stays below the bound.

@@ -5,7 +5,7 @@
 #include <limits>
 #include <string>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 
 namespace pilempm {

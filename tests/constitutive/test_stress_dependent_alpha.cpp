@@ -3,8 +3,8 @@
 
 #include <cmath>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/rohe_void_ratios.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/rohe_void_ratios.hpp"
 #include "pilempm/core/error.hpp"
 
 namespace pilempm {

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "pilempm/analytic/herle_gudehus.hpp"
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/element/element_tests.hpp"
 
 namespace pilempm {

@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/element/element_tests.hpp"
 
 namespace pilempm {

@@ -222,11 +222,11 @@ TEST(CentrifugeCase, MaterialTableOfTheFileIsTheSandAndIsCopiedIntoTheMpmCase) {
   for (const MpmRegion& r : c.regions) EXPECT_EQ(r.material.name, "steep-sand");
   const MpmRegion& sand = c.regions[0];
   EXPECT_EQ(sand.material.name, "steep-sand");
-  EXPECT_EQ(sand.material.kind, ModelKind::hypoplastic);
+  EXPECT_EQ(sand.material.model, "hypoplastic");
   EXPECT_FALSE(sand.material.builtin);
-  EXPECT_DOUBLE_EQ(sand.material.hypoplastic.phi_c_deg, 33.0);
+  EXPECT_DOUBLE_EQ(sand.material.hypoplastic().phi_c_deg, 33.0);
   // The rest of the set from its base.
-  EXPECT_DOUBLE_EQ(sand.material.hypoplastic.h_s, builtin_material("original").hypoplastic.h_s);
+  EXPECT_DOUBLE_EQ(sand.material.hypoplastic().h_s, builtin_material("original").hypoplastic().h_s);
   EXPECT_NEAR(sand.K0, 1.0 - std::sin(33.0 * kDeg), 1e-8);
   ASSERT_EQ(c.bodies.size(), 1u);
   EXPECT_NEAR(c.bodies[0].friction, std::tan(22.0 * kDeg), 1e-8);  // δ = 2/3 φ_c

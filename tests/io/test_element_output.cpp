@@ -13,6 +13,7 @@
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/element_output.hpp"
 #include "pilempm/io/element_run.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 
 namespace pilempm {
 namespace {

@@ -11,7 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_case.hpp"
@@ -125,9 +126,11 @@ TEST(MpmCase, ValidCaseReadsIntoSiValues) {
 
   ASSERT_EQ(c.regions.size(), 1u);
   const MpmRegion& r = c.regions[0];
-  EXPECT_EQ(r.material.kind, ModelKind::mohr_coulomb);
-  EXPECT_DOUBLE_EQ(r.material.mohr_coulomb.young_modulus, 50.0e6);  // MPa -> Pa
-  EXPECT_DOUBLE_EQ(r.material.mohr_coulomb.cohesion, 1.0e3);        // kPa -> Pa
+  EXPECT_EQ(r.material.model, "mohr-coulomb");
+  EXPECT_DOUBLE_EQ(r.material.parameters_as<MohrCoulombParameters>()->young_modulus,
+                   50.0e6);  // MPa -> Pa
+  EXPECT_DOUBLE_EQ(r.material.parameters_as<MohrCoulombParameters>()->cohesion,
+                   1.0e3);  // kPa -> Pa
   EXPECT_EQ(r.fill.particles_per_cell_x, 2);
   EXPECT_EQ(r.fill.particles_per_cell_y, 3);
   EXPECT_DOUBLE_EQ(r.fill.density, 1800.0);
@@ -252,8 +255,8 @@ output_interval_s = 0.001
 TEST(MpmCase, HypoplasticGroundStartsAtItsScaledVoidRatioAndRuns) {
   const MpmCase c = read_mpm_case_text(kHypoplasticCase, "hypo.toml");
   const MpmRegion& r = c.regions.at(0);
-  EXPECT_EQ(r.material.kind, ModelKind::hypoplastic);
-  EXPECT_NEAR(r.K0, 1.0 - std::sin(r.material.hypoplastic.phi_c_deg * kPi / 180.0), 1e-12);
+  EXPECT_EQ(r.material.model, "hypoplastic");
+  EXPECT_NEAR(r.K0, 1.0 - std::sin(r.material.hypoplastic().phi_c_deg * kPi / 180.0), 1e-12);
   const mpm::Grid grid = make_mpm_grid(c);
   EXPECT_TRUE(grid.axis_of_symmetry());
   const mpm::Particles particles = make_mpm_particles(c, grid);
@@ -261,11 +264,11 @@ TEST(MpmCase, HypoplasticGroundStartsAtItsScaledVoidRatioAndRuns) {
     const MaterialState& s = particles.state[p];
     const double mean = mean_stress(s.stress);
     EXPECT_NEAR(s.void_ratio,
-                initial_void_ratio(r.material.hypoplastic, 0.9,
+                initial_void_ratio(r.material.hypoplastic(), 0.9,
                                    VoidRatioConvention::at_zero_pressure, mean),
                 1e-12);
     EXPECT_LT(s.void_ratio, 0.9);
-    EXPECT_GT(s.intergranular_strain.norm(), 0.0);
+    EXPECT_GT(Hypoplastic::intergranular_strain(s).norm(), 0.0);
   }
 
   const std::filesystem::path out =

@@ -11,7 +11,8 @@
 #include <memory>
 #include <numbers>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/solver.hpp"
 
@@ -37,15 +38,10 @@ BarEnergies run_pulse(bool absorbing, Geometry geometry) {
   grid.set_boundary(Side::top, BoundaryCondition::roller);
   if (!absorbing) grid.set_boundary(Side::right, BoundaryCondition::fixed);
 
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = x0;
-  fill.x_max = x0 + kLength;
-  fill.y_max = h;
+  RectangleFill fill = test_support::block_fill(x0, x0 + kLength, 0.0, h, kDensity);
   fill.particles_per_cell_x = 2;
   fill.particles_per_cell_y = 1;
-  fill.density = kDensity;
-  fill_rectangle(particles, grid, geometry, fill);
+  Particles particles = test_support::particle_block(grid, geometry, fill);
   // A smooth pulse (half sine, 0.4 m long) 0.2 m from the free end.
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const double s = particles.position[p].x() - x0 - 0.2;

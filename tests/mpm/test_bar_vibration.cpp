@@ -16,7 +16,8 @@
 #include <memory>
 #include <vector>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {
@@ -45,14 +46,10 @@ BarResult run_bar(int cells, int periods, UpdateScheme scheme, ShapeFunction sha
   grid.set_boundary(Side::bottom, BoundaryCondition::roller);
   grid.set_boundary(Side::top, BoundaryCondition::roller);
 
-  Particles particles;
-  RectangleFill fill;
-  fill.x_max = kLength;
-  fill.y_max = h;
+  RectangleFill fill = test_support::block_fill(0.0, kLength, 0.0, h, kDensity);
   fill.particles_per_cell_x = 2;
   fill.particles_per_cell_y = 1;
-  fill.density = kDensity;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
   const double wave_speed = std::sqrt(kYoung / kDensity);
   const double omega = kPi * wave_speed / (2.0 * kLength) / std::sqrt(mass_scaling);
   std::size_t tip = 0;

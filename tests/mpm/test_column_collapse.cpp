@@ -23,7 +23,8 @@
 #include <cstdio>
 #include <memory>
 
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {
@@ -72,15 +73,9 @@ CollapseResult run_collapse(double aspect_ratio, int cells_over_width) {
   grid.set_boundary(Side::left, BoundaryCondition::roller);
   grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
 
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = kWidth;
-  fill.y_min = 0.0;
-  fill.y_max = height;
-  fill.density = kDensity;
+  RectangleFill fill = test_support::block_fill(0.0, kWidth, 0.0, height, kDensity);
   fill.initial_state.void_ratio = 0.7;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
 
   MohrCoulombParameters parameters;
   parameters.young_modulus = 2.0e6;

@@ -15,7 +15,8 @@
 #include <memory>
 #include <vector>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {
@@ -42,19 +43,11 @@ ColumnResult run_column(Geometry geometry, int cells_over_height, ShapeFunction 
   // The column fills x in [x0, x0 + 2h]; in axisymmetry it starts on the axis.
   Grid grid(GridAxis::uniform(0.0, columns * h, columns),
             GridAxis::uniform(0.0, kHeight + 2.0 * h, cells_over_height + 2));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
+  test_support::set_walls_and_fixed_base(grid);
 
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = columns * h;
-  fill.y_min = 0.0;
-  fill.y_max = kHeight;
-  fill.density = kDensity;
+  RectangleFill fill = test_support::block_fill(0.0, columns * h, 0.0, kHeight, kDensity);
   fill.initial_state.void_ratio = 0.7;
-  fill_rectangle(particles, grid, geometry, fill);
+  Particles particles = test_support::particle_block(grid, geometry, fill);
   std::vector<double> initial_height(particles.size());
   for (std::size_t p = 0; p < particles.size(); ++p) initial_height[p] = particles.position[p].y();
 

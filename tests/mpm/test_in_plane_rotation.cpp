@@ -10,6 +10,15 @@
 namespace pilempm::mpm {
 namespace {
 
+// A history like hypoplasticity's intergranular strain (a tensor) next to a scalar like
+// Mohr-Coulomb's plastic shear strain.
+constexpr HistoryVariable kHistory[] = {{"intergranular_strain", 0, 6, true},
+                                        {"plastic_shear_strain", 6, 1, false}};
+
+Vec6 tensor(const MaterialState& state) {
+  return Eigen::Map<const Vec6>(state.history.data());
+}
+
 TEST(InPlaneRotation, EqualsRotateStateForASpinAboutZ) {
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -18,23 +27,21 @@ TEST(InPlaneRotation, EqualsRotateStateForASpinAboutZ) {
       MaterialState state;
       for (int j = 0; j < 6; ++j) {
         state.stress[j] = 1e5 * u(rng);
-        state.intergranular_strain[j] = 1e-4 * u(rng);
+        state.history[static_cast<std::size_t>(j)] = 1e-4 * u(rng);
       }
       state.void_ratio = 0.7;
-      state.plastic_shear_strain = 0.01;
+      state.history[6] = 0.01;
       const double w = size * u(rng);
       Mat3 spin = Mat3::Zero();
       spin(1, 0) = w;
       spin(0, 1) = -w;
       MaterialState general = state, in_plane = state;
-      rotate_state(general, spin);
-      rotate_state_about_z(in_plane, w);
+      rotate_state(general, spin, kHistory);
+      rotate_state_about_z(in_plane, w, kHistory);
       EXPECT_LE((general.stress - in_plane.stress).norm(), 1e-15 * 1e5 * 6) << w;
-      EXPECT_LE((general.intergranular_strain - in_plane.intergranular_strain).norm(),
-                1e-15 * 1e-4 * 6)
-          << w;
+      EXPECT_LE((tensor(general) - tensor(in_plane)).norm(), 1e-15 * 1e-4 * 6) << w;
       EXPECT_EQ(in_plane.void_ratio, state.void_ratio);
-      EXPECT_EQ(in_plane.plastic_shear_strain, state.plastic_shear_strain);
+      EXPECT_EQ(in_plane.history[6], state.history[6]);
     }
   }
 }

@@ -18,7 +18,8 @@
 #include <memory>
 #include <vector>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {
@@ -66,15 +67,9 @@ LameResult run_cylinder(int cells_over_wall) {
   grid.set_boundary(Side::bottom, BoundaryCondition::roller);
   grid.set_boundary(Side::top, BoundaryCondition::roller);
 
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = kInner;
-  fill.x_max = kOuter;
-  fill.y_min = 0.0;
-  fill.y_max = slice;
-  fill.density = kDensity;
+  RectangleFill fill = test_support::block_fill(kInner, kOuter, 0.0, slice, kDensity);
   fill.initial_state.void_ratio = 0.7;
-  fill_rectangle(particles, grid, Geometry::axisymmetric, fill);
+  Particles particles = test_support::particle_block(grid, Geometry::axisymmetric, fill);
 
   // The pressure on the inner face: on each particle of the innermost layer, p_i times its face
   // r_face 2 l_z per radian (r_face = r_p - l_r, the domain's inner edge, = a).

@@ -10,7 +10,8 @@
 #include <numbers>
 #include <vector>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/solver.hpp"
 
@@ -115,15 +116,9 @@ std::vector<double> slide_on_plane(double angle, double friction, const std::vec
                                    double* normal_force_ratio = nullptr) {
   const double g = 9.81, density = 2000.0, poisson = 0.3, top = 0.3;
   Grid grid(GridAxis::uniform(0.0, 1.5, 60), GridAxis::uniform(0.0, 0.4, 16));
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.1;
-  fill.x_max = 0.5;
-  fill.y_min = 0.1;
-  fill.y_max = top;
-  fill.density = density;
+  RectangleFill fill = test_support::block_fill(0.1, 0.5, 0.1, top, density);
   fill.initial_state.void_ratio = 0.7;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
   const double k0 = poisson / (1.0 - poisson);
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const double vertical = -density * g * std::cos(angle) * (top - particles.position[p].y());
@@ -187,15 +182,9 @@ TEST(RigidBodyContact, ForceOnPlateBalancesTheBlocksMomentum) {
   // No gravity: a free elastic block pushed by a plate at constant speed; the force on the plate
   // is minus the rate of change of the block's momentum, step by step.
   Grid grid(GridAxis::uniform(0.0, 1.0, 40), GridAxis::uniform(0.0, 0.5, 20));
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.3;
-  fill.x_max = 0.6;
-  fill.y_min = 0.1;
-  fill.y_max = 0.4;
-  fill.density = 2000.0;
+  RectangleFill fill = test_support::block_fill(0.3, 0.6, 0.1, 0.4, 2000.0);
   fill.initial_state.void_ratio = 0.7;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
   SolverSettings settings;
   settings.gravity = 0.0;
   settings.threads = 1;
@@ -241,15 +230,9 @@ PileResult push_pile(double contact_distance) {
   Grid grid(GridAxis::uniform(0.0, 0.5, 20), GridAxis::uniform(0.0, 0.75, 30));
   grid.set_boundary(Side::right, BoundaryCondition::roller);
   grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = 0.5;
-  fill.y_min = 0.0;
-  fill.y_max = surface;
-  fill.density = 2000.0;
+  RectangleFill fill = test_support::block_fill(0.0, 0.5, 0.0, surface, 2000.0);
   fill.initial_state.void_ratio = 0.7;
-  fill_rectangle(particles, grid, Geometry::axisymmetric, fill);
+  Particles particles = test_support::particle_block(grid, Geometry::axisymmetric, fill);
   SolverSettings settings;
   settings.geometry = Geometry::axisymmetric;
   settings.gravity = 0.0;
@@ -283,14 +266,8 @@ TEST(RigidBodyContact, ContactWorkClosesTheEnergyAccount) {
   // nodes), and kinetic + internal - contact work stays near zero.
   Grid grid(GridAxis::uniform(0.0, 1.0, 40), GridAxis::uniform(0.0, 0.5, 20));
   grid.set_boundary(Side::right, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.3;
-  fill.x_max = 1.0;
-  fill.y_min = 0.1;
-  fill.y_max = 0.4;
-  fill.density = 2000.0;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.3, 1.0, 0.1, 0.4, 2000.0));
   SolverSettings settings;
   settings.gravity = 0.0;
   settings.threads = 1;
@@ -317,15 +294,9 @@ TEST(RigidBodyContact, ContactWorkClosesTheEnergyAccount) {
 // fixed base, with local damping α.
 double plate_push_force(double damping) {
   Grid grid(GridAxis::uniform(0.0, 0.5, 20), GridAxis::uniform(0.0, 0.5, 20));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_max = 0.5;
-  fill.y_max = 0.3;
-  fill.density = 2000.0;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  test_support::set_walls_and_fixed_base(grid);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 0.5, 0.0, 0.3, 2000.0));
   SolverSettings settings;
   settings.gravity = 0.0;
   settings.local_damping = damping;

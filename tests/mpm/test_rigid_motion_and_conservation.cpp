@@ -11,7 +11,8 @@
 #include <random>
 #include <string>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/solver.hpp"
 
@@ -28,15 +29,9 @@ ModelPtr elastic() {
 // A 2 m x 2 m grid of 20 x 20 cells with a 0.5 m x 0.4 m block of 2 x 2 particles per cell.
 Solver free_block(const SolverSettings& settings, const Vec2& velocity, int cells = 20) {
   Grid grid(GridAxis::uniform(0.0, 2.0, cells), GridAxis::uniform(0.0, 2.0, cells));
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.6;
-  fill.x_max = 1.1;
-  fill.y_min = 0.8;
-  fill.y_max = 1.2;
-  fill.density = kDensity;
+  RectangleFill fill = test_support::block_fill(0.6, 1.1, 0.8, 1.2, kDensity);
   fill.initial_velocity = velocity;
-  fill_rectangle(particles, grid, settings.geometry, fill);
+  Particles particles = test_support::particle_block(grid, settings.geometry, fill);
   return Solver(std::move(grid), std::move(particles), {elastic()}, settings);
 }
 
@@ -61,16 +56,21 @@ const Variant kVariants[] = {
     {UpdateScheme::usl, ShapeFunction::ugimp, 1.0, "USL uGIMP FLIP"},
 };
 
+// A variant's settings without gravity, on one thread.
+SolverSettings free_settings(const Variant& v) {
+  SolverSettings settings;
+  settings.scheme = v.scheme;
+  settings.shape_function = v.shape;
+  settings.flip_fraction = v.flip;
+  settings.gravity = 0.0;
+  settings.threads = 1;
+  return settings;
+}
+
 TEST(RigidMotion, UniformTranslationIsExactAndStressFree) {
   const Vec2 velocity(1.5, -0.7);
   for (const Variant& v : kVariants) {
-    SolverSettings settings;
-    settings.scheme = v.scheme;
-    settings.shape_function = v.shape;
-    settings.flip_fraction = v.flip;
-    settings.gravity = 0.0;
-    settings.threads = 1;
-    Solver solver = free_block(settings, velocity);
+    Solver solver = free_block(free_settings(v), velocity);
     const Particles start = solver.particles();
     // 0.25 m of travel: two and a half cells, so particles cross cell boundaries.
     solver.run_until(0.25 / velocity.norm());
@@ -100,13 +100,7 @@ TEST(Conservation, LinearMomentumIsConservedWithInternalForces) {
   // Random particle velocities deform the block; with no gravity, no damping and no boundary in
   // reach, the nodal internal forces sum to zero and the total momentum cannot change.
   for (const Variant& v : kVariants) {
-    SolverSettings settings;
-    settings.scheme = v.scheme;
-    settings.shape_function = v.shape;
-    settings.flip_fraction = v.flip;
-    settings.gravity = 0.0;
-    settings.threads = 1;
-    Solver solver = free_block(settings, Vec2::Zero());
+    Solver solver = free_block(free_settings(v), Vec2::Zero());
     // A drift, a smooth squeeze and random noise.
     std::mt19937 rng(11);
     std::uniform_real_distribution<double> noise(-0.2, 0.2);
@@ -238,12 +232,8 @@ class RefusingModel final : public ConstitutiveModel {
 TEST(SolverErrors, AFailedStressUpdateNamesParticleStepAndTime) {
   Grid grid(GridAxis::uniform(0.0, 1.0, 4), GridAxis::uniform(0.0, 1.0, 4));
   grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_max = 1.0;
-  fill.y_max = 0.5;
-  fill.density = kDensity;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 1.0, 0.0, 0.5, kDensity));
   particles.material[9] = 1;
   particles.material[13] = 1;
   SolverSettings settings;
@@ -303,18 +293,13 @@ TEST(Axisymmetry, RadialVelocityIsZeroOnTheAxis) {
   // A disc of material next to the axis moving inwards, with a free left side: the nodes on r = 0
   // get no radial velocity, and the material stops there instead of crossing the axis.
   Grid grid(GridAxis::uniform(0.0, 1.0, 10), GridAxis::uniform(0.0, 1.0, 10));
-  Particles particles;
-  RectangleFill fill;
-  fill.x_max = 0.3;
-  fill.y_min = 0.4;
-  fill.y_max = 0.6;
-  fill.density = kDensity;
+  RectangleFill fill = test_support::block_fill(0.0, 0.3, 0.4, 0.6, kDensity);
   fill.initial_velocity = Vec2(-0.2, 0.0);
   SolverSettings settings;
   settings.geometry = Geometry::axisymmetric;
   settings.gravity = 0.0;
   settings.threads = 1;
-  fill_rectangle(particles, grid, settings.geometry, fill);
+  Particles particles = test_support::particle_block(grid, settings.geometry, fill);
   Solver solver(std::move(grid), std::move(particles), {elastic()}, settings);
   for (int k = 0; k < 50; ++k) {
     solver.step();

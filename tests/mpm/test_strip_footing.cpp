@@ -17,7 +17,8 @@
 #include <utility>
 #include <vector>
 
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {
@@ -41,16 +42,10 @@ FootingSettlement load_strip(double h, double pressure, bool smoothing) {
   Grid grid(
       GridAxis::uniform(0.0, kSoilWidth, static_cast<int>(std::lround(kSoilWidth / h))),
       GridAxis::uniform(0.0, kDepth + 4.0 * h, static_cast<int>(std::lround(kDepth / h)) + 4));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
+  test_support::set_walls_and_fixed_base(grid);
 
-  Particles particles;
-  RectangleFill fill;
-  fill.x_max = kSoilWidth;
-  fill.y_max = kDepth;
-  fill.density = 2000.0;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, kSoilWidth, 0.0, kDepth, 2000.0));
   // The strip load: on the top row of particles under the footing, each its share of the width.
   std::vector<std::size_t> loaded;
   for (std::size_t p = 0; p < particles.size(); ++p) {

@@ -9,7 +9,8 @@
 #include <memory>
 #include <random>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 
 namespace pilempm::mpm {
@@ -19,18 +20,10 @@ namespace {
 // gravity, local damping and a graded grid: every part of the step does something.
 Particles run(int threads, Geometry geometry, UpdateScheme scheme, long steps) {
   Grid grid(GridAxis::graded(0.0, 1.0, 0.0, 0.4, 0.02, 1.2), GridAxis::uniform(0.0, 0.8, 40));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = 0.6;
-  fill.y_min = 0.1;
-  fill.y_max = 0.5;
-  fill.density = 1800.0;
+  test_support::set_walls_and_fixed_base(grid);
+  RectangleFill fill = test_support::block_fill(0.0, 0.6, 0.1, 0.5, 1800.0);
   fill.initial_state.stress = -5e3 * identity6();
-  fill_rectangle(particles, grid, geometry, fill);
+  Particles particles = test_support::particle_block(grid, geometry, fill);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> noise(-0.05, 0.05);
   for (Vec2& v : particles.velocity) v = Vec2(noise(rng), -0.5 + noise(rng));

@@ -9,7 +9,8 @@
 #include <memory>
 #include <vector>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "../support/mpm_builders.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/solver.hpp"
 
@@ -27,13 +28,8 @@ XpicModel make_setup() {
   XpicModel s{Grid(GridAxis::uniform(0.0, 1.2, 6), GridAxis::uniform(0.0, 1.0, 5)), Particles{}};
   s.grid.set_boundary(Side::left, BoundaryCondition::fixed);
   s.grid.set_boundary(Side::bottom, BoundaryCondition::roller);
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = 1.0;
-  fill.y_min = 0.0;
-  fill.y_max = 0.8;
-  fill.density = 2000.0;
-  fill_rectangle(s.particles, s.grid, Geometry::plane_strain, fill);
+  s.particles = test_support::particle_block(s.grid, Geometry::plane_strain,
+                                             test_support::block_fill(0.0, 1.0, 0.0, 0.8, 2000.0));
   for (std::size_t p = 0; p < s.particles.size(); ++p) {
     const double k = static_cast<double>(p);
     s.particles.velocity[p] = Vec2(0.3 + std::sin(1.7 * k), -0.2 + std::cos(2.3 * k * k));

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/toml_reader.hpp"

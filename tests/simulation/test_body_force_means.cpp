@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/solver.hpp"
 #include "pilempm/simulation/body_force_means.hpp"
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <regex>
 #include <set>
@@ -103,9 +104,9 @@ TEST(CalibrationStudyCase, SharedTestsEqualThoseOfTheElementTestExample) {
     EXPECT_EQ(it->initial.e0_at, e.initial.e0_at);
     EXPECT_EQ(it->initial.igs, e.initial.igs);
     EXPECT_EQ(it->material.name, e.material.name);
-    EXPECT_EQ(it->material.hypoplastic.alpha, e.material.hypoplastic.alpha);
-    EXPECT_EQ(it->material.hypoplastic.h_s, e.material.hypoplastic.h_s);
-    EXPECT_EQ(it->material.hypoplastic.e_c0, e.material.hypoplastic.e_c0);
+    EXPECT_EQ(it->material.hypoplastic().alpha, e.material.hypoplastic().alpha);
+    EXPECT_EQ(it->material.hypoplastic().h_s, e.material.hypoplastic().h_s);
+    EXPECT_EQ(it->material.hypoplastic().e_c0, e.material.hypoplastic().e_c0);
     EXPECT_EQ(it->igs.has_value(), e.igs.has_value());
     if (it->igs && e.igs) {
       EXPECT_EQ(it->igs->name, e.igs->name);
@@ -216,6 +217,37 @@ TEST_F(QuickStudy, EveryCsvOfTheFiguresExistsWithUnitsInItsHeader) {
   }
 }
 
+// The items copy the curves of the tests from memory with the digits of the tests' own curve
+// files: a copied column is the test file's column, cell for cell, and q in MPa is q in kPa.
+TEST_F(QuickStudy, ItemCurvesAreTheTestsCurvesDigitForDigit) {
+  const auto item = read_csv_cells(dir() / "triaxial.csv");
+  ASSERT_GT(item.size(), 1u);
+  const auto column = [](const std::vector<std::string>& header, const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  std::map<std::string, std::vector<std::vector<std::string>>> tests;
+  std::map<std::string, std::size_t> next_row;
+  std::size_t rows = 0;
+  for (std::size_t i = 1; i < item.size(); ++i) {
+    const std::string& name = item[i][column(item[0], "test")];
+    if (!tests.count(name)) tests[name] = read_csv_cells(dir() / "tests" / (name + ".csv"));
+    const auto& curve = tests[name];
+    const std::size_t row = ++next_row[name];
+    ASSERT_LT(row, curve.size()) << name;
+    for (const char* copied : {"axial_strain_pct", "volumetric_strain_pct", "q_kPa", "p_kPa"})
+      EXPECT_EQ(item[i][column(item[0], copied)], curve[row][column(curve[0], copied)])
+          << name << " row " << row << " " << copied;
+    const double q_kPa = std::stod(item[i][column(item[0], "q_kPa")]);
+    EXPECT_NEAR(std::stod(item[i][column(item[0], "q_MPa")]) * 1e3, q_kPa,
+                1e-9 * std::abs(q_kPa) + 1e-12);
+    ++rows;
+  }
+  for (const auto& [name, curve] : tests) EXPECT_EQ(next_row[name] + 1, curve.size()) << name;
+  EXPECT_GT(rows, 1000u);
+}
+
 TEST_F(QuickStudy, ReadmeNamesEveryItemItsConventionAndFigures) {
   const std::string md = read_text(report().readme);
   EXPECT_NE(md.find("--quick"), std::string::npos);
@@ -240,7 +272,7 @@ TEST_F(QuickStudy, ReadmeNamesEveryItemItsConventionAndFigures) {
     for (const std::string& csv : item.csv)
       EXPECT_NE(section.find("(" + csv + ")"), std::string::npos) << csv;
   }
-  // Where the study used which convention (BRIEF §3): laboratory tests at the initial stress,
+  // Where the study used which convention (docs/study.md §2): laboratory tests at the initial stress,
   // the high-pressure and alpha series scaled from zero pressure.
   EXPECT_NE(report().items[0].convention.find("`initial-stress`"), std::string::npos);
   EXPECT_NE(report().items[3].convention.find("`zero-pressure`"), std::string::npos);
@@ -268,7 +300,7 @@ TEST_F(QuickStudy, HighPressurePeaksFallWithPressureBesideBolton) {
       EXPECT_LT(rows[i].initial_void_ratio, rows[i - 1].initial_void_ratio);
     }
   }
-  // BRIEF §4: Bolton's table at 500 kPa and 30 MPa.
+  // docs/study.md §3.1: Bolton's table at 500 kPa and 30 MPa.
   EXPECT_NEAR(rows.front().bolton.phi_max_deg, 38.788, 5e-4);
   EXPECT_NEAR(rows.front().bolton.psi_max_deg, 16.277, 5e-4);
   EXPECT_NEAR(rows.back().bolton.phi_max_deg, 27.119, 5e-4);
@@ -310,7 +342,7 @@ TEST_F(QuickStudy, AlphaFallsWithPressureAndEndsWithoutAPeak) {
     EXPECT_EQ(series.points.back().status, AlphaStatus::no_peak);  // 30 MPa
     EXPECT_FALSE(series.points.back().alpha.has_value());
   }
-  // BRIEF §4: alpha ~ 0.13 at 100 kPa for e = 0.68 with the original set.
+  // docs/study.md §3.4: alpha ~ 0.13 at 100 kPa for e = 0.68 with the original set.
   const AlphaPressureSeries& e068 = all.front();
   ASSERT_EQ(e068.e0, 0.68);
   ASSERT_EQ(e068.convention, VoidRatioConvention::at_initial_stress);

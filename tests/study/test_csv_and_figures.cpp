@@ -5,7 +5,7 @@
 #include <string>
 
 #include "pilempm/core/error.hpp"
-#include "pilempm/io/text_escaping.hpp"
+#include "pilempm/io/output/json_writer.hpp"
 #include "pilempm/study/csv_table.hpp"
 #include "pilempm/study/figures.hpp"
 

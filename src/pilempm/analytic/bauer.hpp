@@ -4,7 +4,7 @@
 #include <span>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 
 namespace pilempm {
 

@@ -7,7 +7,7 @@
 #include <string_view>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 
 namespace pilempm {
 

@@ -14,8 +14,8 @@
 #include <string_view>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 #include "pilempm/element/element_tests.hpp"
 
 namespace pilempm::calibration {

@@ -2,7 +2,9 @@
 // The one interface through which every consumer (element tests, MPM, calibration, benchmarks)
 // calls a constitutive model. A model knows nothing of grids, particles or files.
 #include <memory>
+#include <span>
 #include <string>
+#include <vector>
 
 #include "pilempm/constitutive/material_state.hpp"
 
@@ -38,7 +40,33 @@ class ConstitutiveModel {
 
   /// Upper bound of the constrained (P-wave) modulus at the state [Pa], for the critical time step.
   virtual double wave_modulus(const MaterialState& state) const = 0;
+
+  /// The model's history variables in MaterialState::history: what a checkpoint stores and what
+  /// an objective update rotates (tensors). Slots not listed stay zero. None by default.
+  virtual std::span<const HistoryVariable> history_variables() const { return {}; }
+
+  /// Scalar results per point for output (e.g. VTU point data), by name; none by default.
+  virtual std::vector<std::string> output_fields() const { return {}; }
+  /// The value of output field `index` (into output_fields()) at the state.
+  virtual double output_field(std::size_t index, const MaterialState& state) const {
+    (void)index;
+    (void)state;
+    return 0.0;
+  }
 };
+
+/// Rotates every tensor among the model's history variables by R (R A R^T, Mandel), with
+/// `rotate` a callable rotate(Vec6&): the objective part of an update for the history.
+template <class Rotate>
+void rotate_history_tensors(std::span<const HistoryVariable> variables, MaterialState& state,
+                            Rotate&& rotate) {
+  for (const HistoryVariable& v : variables) {
+    if (!v.tensor) continue;
+    Vec6 tensor = Eigen::Map<const Vec6>(state.history.data() + v.offset);
+    rotate(tensor);
+    Eigen::Map<Vec6>(state.history.data() + v.offset) = tensor;
+  }
+}
 
 using ModelPtr = std::shared_ptr<const ConstitutiveModel>;
 

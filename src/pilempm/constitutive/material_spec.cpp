@@ -1,55 +1,42 @@
 // Materials as data: see material_spec.hpp.
 #include "pilempm/constitutive/material_spec.hpp"
 
-#include <memory>
+#include <fmt/format.h>
 
 #include "pilempm/core/error.hpp"
 
 namespace pilempm {
 
-std::string_view to_string(ModelKind kind) {
-  switch (kind) {
-    case ModelKind::hypoplastic:
-      return "hypoplastic";
-    case ModelKind::mohr_coulomb:
-      return "mohr-coulomb";
-    case ModelKind::linear_elastic:
-      return "linear-elastic";
-  }
-  return "?";
+const HypoplasticMaterial& MaterialSpec::hypoplastic_material() const {
+  if (const HypoplasticMaterial* m = parameters_as<HypoplasticMaterial>()) return *m;
+  throw Error(fmt::format("material \"{}\" is {}, not hypoplastic", name, model));
 }
 
-IgsChoice named_igs(std::string_view name) {
-  return {std::string(name), intergranular_strain_set(name)};
-}
-
-std::vector<std::string> igs_choice_names() {
-  return intergranular_strain_set_names();
+MaterialSpec with_igs(const MaterialSpec& material, const std::optional<IgsChoice>& igs) {
+  const HypoplasticMaterial* hypoplastic = material.parameters_as<HypoplasticMaterial>();
+  if (hypoplastic == nullptr) return material;
+  HypoplasticMaterial changed = *hypoplastic;
+  changed.igs = igs;
+  MaterialSpec result = material;
+  result.parameters = std::make_shared<const ParametersOf<HypoplasticMaterial>>(changed);
+  return result;
 }
 
 MaterialSpec builtin_material(std::string_view set_name) {
   MaterialSpec m;
   m.name = std::string(set_name);
-  m.kind = ModelKind::hypoplastic;
+  m.model = "hypoplastic";
   m.builtin = true;
-  m.hypoplastic = hypoplastic_set(set_name);
+  m.parameters = std::make_shared<const ParametersOf<HypoplasticMaterial>>(
+      HypoplasticMaterial{hypoplastic_set(set_name), "", std::nullopt});
   m.origin = "built-in set";
   return m;
 }
 
 ModelPtr make_model(const MaterialSpec& material, const std::optional<IgsChoice>& igs,
                     const IntegratorSettings& integrator) {
-  switch (material.kind) {
-    case ModelKind::hypoplastic:
-      return std::make_shared<Hypoplastic>(material.hypoplastic,
-                                           igs ? igs->parameters : IntergranularStrainParameters{},
-                                           integrator);
-    case ModelKind::mohr_coulomb:
-      return std::make_shared<MohrCoulomb>(material.mohr_coulomb);
-    case ModelKind::linear_elastic:
-      return std::make_shared<LinearElastic>(material.elastic);
-  }
-  throw Error("make_model: unknown model kind");
+  const MaterialSpec effective = with_igs(material, igs);
+  return model_registry().at(material.model).make(*effective.parameters, integrator);
 }
 
 }  // namespace pilempm

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/element/mixed_control_driver.hpp"
 
@@ -18,7 +18,7 @@ const Hypoplastic* as_hypoplastic(const ConstitutiveModel& model) {
 double igs_ratio(const ConstitutiveModel& model, const MaterialState& state) {
   const Hypoplastic* hypo = as_hypoplastic(model);
   if (hypo == nullptr || !hypo->intergranular().enabled()) return 0.0;
-  return state.intergranular_strain.norm() / hypo->intergranular().R;
+  return Vec6(Hypoplastic::intergranular_strain(state)).norm() / hypo->intergranular().R;
 }
 
 CurvePoint curve_point(const MixedControlDriver& driver, const UpdateResult& update) {
@@ -125,7 +125,7 @@ void align_with_first_increment(const ConstitutiveModel& model, const InitialCon
   if (!(direction.norm() > 0.0)) direction = -identity6();
   direction.normalize();
   for (int iteration = 0; iteration < 20; ++iteration) {
-    start.intergranular_strain = R * direction;
+    Hypoplastic::intergranular_strain(start) = R * direction;
     MixedControlDriver probe(model, start);
     probe.apply(first);
     const Vec6 next = probe.last_strain_increment().normalized();
@@ -133,7 +133,7 @@ void align_with_first_increment(const ConstitutiveModel& model, const InitialCon
     direction = next;
     if (converged) break;
   }
-  start.intergranular_strain = R * direction;
+  Hypoplastic::intergranular_strain(start) = R * direction;
 }
 
 }  // namespace
@@ -197,12 +197,12 @@ MaterialState initial_state(const ConstitutiveModel& model, const Vec6& stress,
         initial_void_ratio(hypo->parameters(), initial.e0, initial.e0_at, mean_stress(stress));
     const double R = hypo->intergranular().R;
     if (hypo->intergranular().enabled() && initial.igs == InitialCondition::Igs::compression)
-      state.intergranular_strain = -R / kSqrt3 * identity6();
+      Hypoplastic::intergranular_strain(state) = -R / kSqrt3 * identity6();
     if (hypo->intergranular().enabled() && initial.igs == InitialCondition::Igs::tensor) {
       if (!(initial.igs_tensor.norm() <= R * (1.0 + 1e-12)))
         throw InvalidValue("igs_initial", format_value(initial.igs_tensor.norm()),
                            "a tensor with norm <= R = " + format_value(R));
-      state.intergranular_strain = initial.igs_tensor;
+      Hypoplastic::intergranular_strain(state) = initial.igs_tensor;
     }
   }
   return state;

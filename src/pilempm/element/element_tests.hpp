@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "pilempm/constitutive/constitutive_model.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 
 namespace pilempm {
 

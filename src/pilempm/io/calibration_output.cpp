@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "pilempm/io/element_output.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/plot_calibration_script.hpp"  // generated from tools/plot/plot_calibration.py
 
 namespace pilempm {

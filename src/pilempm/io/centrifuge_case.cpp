@@ -66,14 +66,14 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   if (auto t = root.table("sand")) {
     s.installation_material = t->optional_string("material").value_or(s.installation_material);
     const MaterialSpec* material = catalog.find(s.installation_material);
-    if (material == nullptr || material->kind != ModelKind::hypoplastic)
+    if (material == nullptr || !material->is_hypoplastic())
       throw t->error("material", fmt::format("not a hypoplastic material: must be a built-in set "
                                              "or a [[material]] of the file ({})",
                                              fmt::join(catalog.names(), ", ")));
-    s.material_phi_c_deg = material->hypoplastic.phi_c_deg;
+    s.material_phi_c_deg = material->hypoplastic().phi_c_deg;
     if (auto name = t->optional_string("load_test_material")) {
       const MaterialSpec* other = catalog.find(*name);
-      if (other == nullptr || other->kind != ModelKind::hypoplastic)
+      if (other == nullptr || !other->is_hypoplastic())
         throw t->error("load_test_material",
                        fmt::format("not a hypoplastic material: must be a built-in set or a "
                                    "[[material]] of the file ({})",

@@ -166,14 +166,14 @@ ElementCase read_test(TableReader& t, TableReader* defaults, const MaterialCatal
                            fmt::join(catalog.names(), ", ")));
   c.material = *material;
   c.integrator = catalog.integrator();
-  const bool hypoplastic = material->kind == ModelKind::hypoplastic;
+  const bool hypoplastic = material->is_hypoplastic();
 
   // Intergranular strain: the test's own igs, else the material's, else [defaults].
   if (hypoplastic) {
     if (t.contains("igs"))
       c.igs = read_igs(t, "igs");
-    else if (material->igs)
-      c.igs = material->igs;
+    else if (material->hypoplastic_material().igs)
+      c.igs = material->hypoplastic_material().igs;
     else if (defaults != nullptr && defaults->contains("igs"))
       c.igs = read_igs(*defaults, "igs");
     else
@@ -187,7 +187,7 @@ ElementCase read_test(TableReader& t, TableReader* defaults, const MaterialCatal
       if (t.contains(key))
         throw t.error(key, fmt::format("not allowed: the intergranular strain belongs to the "
                                        "hypoplastic model, and set \"{}\" is {}",
-                                       set, to_string(material->kind)));
+                                       set, material->model));
   }
 
   // Initial void ratio and its convention: required for every model (all of them carry e).
@@ -206,11 +206,11 @@ ElementCase read_test(TableReader& t, TableReader* defaults, const MaterialCatal
     throw at_reader.error("e0_at", fmt::format("not allowed for set \"{}\" ({}): scaling from "
                                                "zero pressure needs the hypoplastic h_s and n; "
                                                "use \"initial-stress\"",
-                                               set, to_string(material->kind)));
+                                               set, material->model));
 
   // The loading programme.
   std::optional<double> jaky_K0;
-  if (hypoplastic) jaky_K0 = 1.0 - std::sin(material->hypoplastic.phi_c_deg * kPi / 180.0);
+  if (hypoplastic) jaky_K0 = 1.0 - std::sin(material->hypoplastic().phi_c_deg * kPi / 180.0);
   c.test = read_test_programme(t, type, jaky_K0);
   try {
     validate(c.test);
@@ -290,10 +290,10 @@ Vec6 initial_stress_of(const ElementTest& test) {
 }
 
 std::string initial_void_ratio_problem(const ElementCase& c) {
-  if (c.material.kind != ModelKind::hypoplastic) return "";
+  if (!c.material.is_hypoplastic()) return "";
   const double p0 = mean_stress(initial_stress_of(c.test));
-  const double e = initial_void_ratio(c.material.hypoplastic, c.initial.e0, c.initial.e0_at, p0);
-  const LimitVoidRatios limits = limit_void_ratios(c.material.hypoplastic, p0);
+  const double e = initial_void_ratio(c.material.hypoplastic(), c.initial.e0, c.initial.e0_at, p0);
+  const LimitVoidRatios limits = limit_void_ratios(c.material.hypoplastic(), p0);
   if (e >= limits.e_d && e <= limits.e_i) return "";
   return fmt::format(
       "out of range: with e0_at = \"{}\" the void ratio at the initial mean stress p0 = {} kPa "

@@ -1,17 +1,12 @@
 #include "pilempm/io/element_output.hpp"
 
-#include <fcntl.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
-#include <cstring>
 
-#include "pilempm/io/text_escaping.hpp"
-
-#include "pilempm/io/text_escaping.hpp"
+#include "pilempm/io/output/format.hpp"
+#include "pilempm/io/output/json_writer.hpp"
 
 namespace pilempm {
 
@@ -22,102 +17,13 @@ namespace {
 constexpr double kKPa = 1.0e3;
 constexpr double kMPa = 1.0e6;
 
-std::string system_error_text() {
-  return std::strerror(errno);
+// A number of the curve CSV and of the summaries: kCurveDigits significant digits.
+std::string number_text(double value) {
+  return csv_number(value, kCurveDigits);
 }
-
-// Writes all of `content` to a new file and syncs it; false with errno set on failure.
-bool write_and_sync(const fs::path& path, std::string_view content) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) return false;
-  const char* data = content.data();
-  std::size_t left = content.size();
-  while (left > 0) {
-    const ssize_t n = ::write(fd, data, left);
-    if (n < 0) {
-      if (errno == EINTR) continue;
-      const int saved = errno;
-      ::close(fd);
-      errno = saved;
-      return false;
-    }
-    data += n;
-    left -= static_cast<std::size_t>(n);
-  }
-  if (::fsync(fd) != 0) {
-    const int saved = errno;
-    ::close(fd);
-    errno = saved;
-    return false;
-  }
-  return ::close(fd) == 0;
-}
-
-// A number for CSV and JSON: shortest round-trip form; JSON has no NaN or infinity.
-std::string number_text(double value, bool json = false) {
-  if (!std::isfinite(value)) return json ? "null" : (std::isnan(value) ? "nan" : "inf");
-  return fmt::format("{:.10g}", value + 0.0);  // + 0.0: no "-0" for a negated zero
-}
-
-// A small writer of indented JSON objects.
-class JsonWriter {
- public:
-  JsonWriter() { open("", '{'); }
-  JsonWriter& object(std::string_view key) { return open(key, '{'); }
-  JsonWriter& end() {
-    const char close = closers_.back();
-    closers_.pop_back();
-    first_.pop_back();
-    out_ += fmt::format("\n{:{}}{}", "", 2 * closers_.size(), close);
-    return *this;
-  }
-  JsonWriter& number(std::string_view key, double value) {
-    return raw(key, number_text(value, true));
-  }
-  JsonWriter& integer(std::string_view key, long value) { return raw(key, std::to_string(value)); }
-  JsonWriter& boolean(std::string_view key, bool value) {
-    return raw(key, value ? "true" : "false");
-  }
-  JsonWriter& string(std::string_view key, std::string_view value) {
-    return raw(key, json_quote(value));
-  }
-  JsonWriter& numbers(std::string_view key, const std::vector<double>& values) {
-    std::string list = "[";
-    for (std::size_t i = 0; i < values.size(); ++i)
-      list.append(i ? ", " : "").append(number_text(values[i], true));
-    return raw(key, list + "]");
-  }
-  std::string finish() {
-    while (!closers_.empty()) end();
-    return out_ + "\n";
-  }
-
- private:
-  JsonWriter& open(std::string_view key, char opener) {
-    if (!closers_.empty()) prefix(key);
-    out_ += opener;
-    closers_.push_back(opener == '{' ? '}' : ']');
-    first_.push_back(true);
-    return *this;
-  }
-  void prefix(std::string_view key) {
-    out_ += first_.back() ? "\n" : ",\n";
-    first_.back() = false;
-    out_ += fmt::format("{:{}}", "", 2 * closers_.size());
-    if (!key.empty()) out_ += json_quote(key) + ": ";
-  }
-  JsonWriter& raw(std::string_view key, const std::string& text) {
-    prefix(key);
-    out_ += text;
-    return *this;
-  }
-  std::string out_;
-  std::vector<char> closers_;
-  std::vector<bool> first_;
-};
 
 std::string igs_name(const ElementCase& c) {
-  if (c.material.kind != ModelKind::hypoplastic) return "-";
+  if (!c.material.is_hypoplastic()) return "-";
   return c.igs ? c.igs->name : "none";
 }
 
@@ -163,66 +69,28 @@ void write_programme(JsonWriter& j, const ElementTest& test) {
   std::visit(Visitor{j}, test);
 }
 
+// A model's description of its parameters, as JSON keys of the open object.
+class JsonParameterSink final : public ParameterSink {
+ public:
+  explicit JsonParameterSink(JsonWriter& j) : j_(j) {}
+  void number(std::string_view key, double value) override { j_.number(key, value); }
+  void integer(std::string_view key, long value) override { j_.integer(key, value); }
+  void text(std::string_view key, std::string_view value) override { j_.string(key, value); }
+  void boolean(std::string_view key, bool value) override { j_.boolean(key, value); }
+  void begin_group(std::string_view key) override { j_.object(key); }
+  void end_group() override { j_.end(); }
+
+ private:
+  JsonWriter& j_;
+};
+
 void write_material(JsonWriter& j, const ElementCase& c) {
   const MaterialSpec& m = c.material;
   j.object("material");
-  j.string("name", m.name).string("model", to_string(m.kind)).string("origin", m.origin);
-  if (!m.base.empty()) j.string("base", m.base);
-  switch (m.kind) {
-    case ModelKind::hypoplastic: {
-      const HypoplasticParameters& p = m.hypoplastic;
-      j.number("phi_c_deg", p.phi_c_deg)
-          .number("h_s_MPa", p.h_s / kMPa)
-          .number("n", p.n)
-          .number("e_d0", p.e_d0)
-          .number("e_c0", p.e_c0)
-          .number("e_i0", p.e_i0)
-          .number("alpha", p.alpha)
-          .number("beta", p.beta);
-      if (p.stress_dependence.enabled()) {
-        const StressDependence& d = p.stress_dependence;
-        j.object("stress_dependence")
-            .boolean("alpha", d.alpha_varies)
-            .number("alpha_low", d.alpha_low)
-            .number("alpha_high", d.alpha_high)
-            .number("p_low_kPa", d.p_low / kKPa)
-            .number("p_high_kPa", d.p_high / kKPa)
-            .boolean("rohe_void_ratios", d.rohe_void_ratios)
-            .end();
-      }
-      j.object("igs").string("name", igs_name(c));
-      if (c.igs && c.igs->parameters.enabled()) {
-        const IntergranularStrainParameters& g = c.igs->parameters;
-        j.number("m_R", g.m_R)
-            .number("m_T", g.m_T)
-            .number("R", g.R)
-            .number("beta_r", g.beta_r)
-            .number("chi", g.chi);
-      }
-      j.end();
-      j.object("integrator")
-          .string("scheme", to_string(c.integrator.scheme))
-          .number("tolerance", c.integrator.tolerance)
-          .number("min_mean_stress_Pa", c.integrator.min_mean_stress)
-          .integer("fixed_substeps", c.integrator.fixed_substeps)
-          .end();
-      break;
-    }
-    case ModelKind::mohr_coulomb: {
-      const MohrCoulombParameters& p = m.mohr_coulomb;
-      j.number("young_modulus_MPa", p.young_modulus / kMPa)
-          .number("poisson_ratio", p.poisson_ratio)
-          .number("cohesion_kPa", p.cohesion / kKPa)
-          .number("friction_angle_deg", p.friction_angle_deg)
-          .number("dilatancy_angle_deg", p.dilatancy_angle_deg)
-          .number("tension_cutoff_kPa", p.tension_cutoff / kKPa);  // null: no cut-off
-      break;
-    }
-    case ModelKind::linear_elastic:
-      j.number("young_modulus_MPa", m.elastic.young_modulus / kMPa)
-          .number("poisson_ratio", m.elastic.poisson_ratio);
-      break;
-  }
+  j.string("name", m.name).string("model", m.model).string("origin", m.origin);
+  JsonParameterSink sink(j);
+  const MaterialSpec effective = with_igs(m, c.igs);  // the test's intergranular strain
+  model_registry().at(m.model).describe(*effective.parameters, c.integrator, sink);
   j.end();
 }
 
@@ -247,11 +115,6 @@ struct Column {
   std::string (*cell)(const ElementRunRecord&);
 };
 
-std::string fixed(double value, int digits) {
-  if (!std::isfinite(value)) return "-";
-  return fmt::format("{:.{}f}", value, digits);
-}
-
 bool shows_peak(const ElementRunRecord& r) {
   return r.ok && (std::holds_alternative<DrainedTriaxialTest>(r.test->test) ||
                   std::holds_alternative<UndrainedTriaxialTest>(r.test->test) ||
@@ -273,38 +136,38 @@ const std::vector<Column>& human_columns() {
       {"e0 (at)", e0_text},
       {"e start",
        [](const ElementRunRecord& r) {
-         return r.ok ? fixed(r.summary.initial_void_ratio, 4) : std::string("-");
+         return r.ok ? fixed_number(r.summary.initial_void_ratio, 4) : std::string("-");
        }},
       {"p0 kPa",
        [](const ElementRunRecord& r) {
-         return fmt::format("{:.6g}", mean_stress(initial_stress_of(r.test->test)) / kKPa);
+         return shown_number(mean_stress(initial_stress_of(r.test->test)) / kKPa, "{:.6g}");
        }},
       {"peak q kPa",
        [](const ElementRunRecord& r) {
-         return shows_peak(r) ? fmt::format("{:.6g}{}", r.summary.peak_q / kKPa,
-                                            r.summary.peak_at_end ? " (end)" : "")
+         return shows_peak(r) ? shown_number(r.summary.peak_q / kKPa, "{:.6g}") +
+                                    (r.summary.peak_at_end ? " (end)" : "")
                               : std::string("-");
        }},
       {"phi peak deg",
        [](const ElementRunRecord& r) {
-         return shows_peak(r) ? fixed(r.summary.phi_at_peak_deg, 2) : std::string("-");
+         return shows_peak(r) ? fixed_number(r.summary.phi_at_peak_deg, 2) : std::string("-");
        }},
       {"psi peak deg",
        [](const ElementRunRecord& r) {
          return shows_peak(r) && std::holds_alternative<DrainedTriaxialTest>(r.test->test)
-                    ? fixed(r.summary.psi_at_peak_deg, 2)
+                    ? fixed_number(r.summary.psi_at_peak_deg, 2)
                     : std::string("-");
        }},
       {"e end",
        [](const ElementRunRecord& r) {
-         return r.ok ? fixed(r.summary.final.void_ratio, 4) : std::string("-");
+         return r.ok ? fixed_number(r.summary.final.void_ratio, 4) : std::string("-");
        }},
       {"sigma_a end kPa",
        [](const ElementRunRecord& r) {
-         return r.ok ? fmt::format("{:.6g}", r.summary.final.axial_stress / kKPa)
+         return r.ok ? shown_number(r.summary.final.axial_stress / kKPa, "{:.6g}")
                      : std::string("-");
        }},
-      {"time s", [](const ElementRunRecord& r) { return fixed(r.seconds, 2); }},
+      {"time s", [](const ElementRunRecord& r) { return fixed_number(r.seconds, 2); }},
       {"status",
        [](const ElementRunRecord& r) {
          return r.ok ? std::string("ok") : std::string("FAILED: ") + r.error;
@@ -314,49 +177,6 @@ const std::vector<Column>& human_columns() {
 }
 
 }  // namespace
-
-void write_file_atomically(const fs::path& path, std::string_view content) {
-  fs::path tmp = path;
-  tmp += ".tmp";
-  if (!write_and_sync(tmp, content)) {
-    const std::string why = system_error_text();
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(fmt::format("cannot write {}: {}", tmp.string(), why));
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw Error(
-        fmt::format("cannot rename {} to {}: {}", tmp.string(), path.string(), ec.message()));
-  }
-}
-
-void prepare_output_directory(const fs::path& directory) {
-  const fs::path dir = directory.empty() ? fs::path(".") : directory;
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw Error(
-        fmt::format("output folder {}: cannot create it{}", dir.string(),
-                    ec ? ": " + ec.message() : std::string(" (a file of that name exists)")));
-  const fs::path probe = dir / fmt::format(".pilempm-write-check-{}", ::getpid());
-  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
-  if (fd < 0)
-    throw Error(
-        fmt::format("output folder {} is not writable: {}", dir.string(), system_error_text()));
-  ::close(fd);
-  fs::remove(probe, ec);
-}
-
-void check_output_file(const fs::path& file) {
-  std::error_code ec;
-  if (fs::is_directory(file, ec))
-    throw Error(fmt::format("output file {} is a folder", file.string()));
-  prepare_output_directory(file.parent_path());
-}
 
 const std::vector<std::string>& curve_columns() {
   static const std::vector<std::string> columns = {
@@ -403,8 +223,7 @@ std::string summary_json(const ElementRunRecord& r) {
   write_material(j, c);
   j.object("initial");
   j.number("e0", c.initial.e0).string("e0_at", to_string(c.initial.e0_at));
-  if (c.material.kind == ModelKind::hypoplastic)
-    j.string("igs_initial", std::string(to_string(c.initial.igs)));
+  if (c.material.is_hypoplastic()) j.string("igs_initial", std::string(to_string(c.initial.igs)));
   if (r.ok) j.number("void_ratio", s.initial_void_ratio);
   j.number("p_kPa", mean_stress(initial_stress_of(c.test)) / kKPa);
   j.end();
@@ -447,7 +266,7 @@ std::string summary_table_csv(const std::vector<ElementRunRecord>& records) {
         c.name,
         test_type_name(c.test),
         c.material.name,
-        std::string(to_string(c.material.kind)),
+        c.material.model,
         igs_name(c),
         number_text(c.initial.e0),
         std::string(to_string(c.initial.e0_at)),
@@ -472,14 +291,10 @@ std::string summary_table_csv(const std::vector<ElementRunRecord>& records) {
     f.push_back(r.ok ? std::to_string(s.substeps) : "");
     f.push_back(r.ok ? std::to_string(s.mean_stress_floor_hits) : "");
     add(s.max_void_ratio_excess);
-    f.push_back(fmt::format("{:.3f}", r.seconds));
+    f.push_back(fixed_number(r.seconds, 3));
     f.push_back(r.ok ? "ok" : "failed: " + r.error);
     f.push_back(r.curve_file.empty() ? "" : r.curve_file.filename().string());
-    for (std::size_t i = 0; i < f.size(); ++i) {
-      if (i > 0) out += ',';
-      out += csv_field(f[i]);
-    }
-    out += '\n';
+    out += csv_row(f);
   }
   return out;
 }
@@ -491,25 +306,15 @@ std::string summary_table_markdown(const std::vector<ElementRunRecord>& records,
   out +=
       "Compression positive. e0 (at): the given initial void ratio and its convention, p0 = at "
       "the initial stress, p=0 = at zero pressure scaled by Bauer's law; e start: the void ratio "
-      "actually used. phi and psi at the peak of q (\"(end)\": q still rising at the end).\n\n|";
-  for (const Column& c : columns) out += " " + c.header + " |";
-  out += "\n|";
-  for (std::size_t i = 0; i < columns.size(); ++i) out += i < 4 ? " --- |" : " ---: |";
-  out += '\n';
+      "actually used. phi and psi at the peak of q (\"(end)\": q still rising at the end).\n\n";
+  std::vector<std::string> header;
+  for (const Column& c : columns) header.push_back(c.header);
+  std::vector<std::vector<std::string>> rows;
   for (const ElementRunRecord& r : records) {
-    out += '|';
-    for (const Column& c : columns) {
-      std::string cell = c.cell(r);
-      std::string escaped;
-      for (char ch : cell) {
-        if (ch == '|') escaped += '\\';
-        escaped += ch == '\n' ? ' ' : ch;
-      }
-      out += " " + escaped + " |";
-    }
-    out += '\n';
+    rows.emplace_back();
+    for (const Column& c : columns) rows.back().push_back(c.cell(r));
   }
-  return out;
+  return out + markdown_table(header, rows, 4);
 }
 
 std::string summary_table_text(const std::vector<ElementRunRecord>& records) {

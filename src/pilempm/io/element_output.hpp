@@ -2,11 +2,9 @@
 // Output of element tests: the curve of one test as CSV, its summary as JSON, and the summary
 // table of a whole case (CSV, Markdown, and aligned text for the terminal). Curves are
 // compression positive with the unit in every column name (docs/case-files.md lists them).
-// Files are written atomically: into FILE.tmp in the same folder, then renamed over FILE, so an
-// error never leaves a half-written file and never destroys a good older one.
+// The texts only: io/output/atomic_file.hpp writes them.
 #include <filesystem>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "pilempm/element/element_tests.hpp"
@@ -14,14 +12,8 @@
 
 namespace pilempm {
 
-/// Writes `content` to FILE.tmp next to `path`, then renames it over `path`. Throws Error (and
-/// removes the .tmp) when anything fails; `path` is then untouched.
-void write_file_atomically(const std::filesystem::path& path, std::string_view content);
-
-/// Creates the folder if needed and checks that a file can be created in it (throws Error).
-void prepare_output_directory(const std::filesystem::path& directory);
-/// Checks that the folder of an output file exists and is writable (throws Error).
-void check_output_file(const std::filesystem::path& file);
+/// Significant digits of the numbers of curve_csv and of the summaries.
+inline constexpr int kCurveDigits = 10;
 
 /// The column names of curve_csv, in order.
 const std::vector<std::string>& curve_columns();
@@ -35,6 +27,7 @@ struct ElementRunRecord {
   ElementSummary summary{};
   double seconds = 0.0;
   std::string error;                   ///< why it failed (empty when ok)
+  std::vector<CurvePoint> curve;       ///< the curve (SI, compression positive) when ok
   std::filesystem::path curve_file;    ///< where the curve went (empty: not written)
   std::filesystem::path summary_file;  ///< where the JSON summary went (empty: not written)
 };

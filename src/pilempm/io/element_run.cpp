@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <chrono>
+#include <utility>
+
+#include "pilempm/io/output/atomic_file.hpp"
 
 namespace pilempm {
 
@@ -42,6 +45,7 @@ ElementRunRecord run_and_write(const ElementCase& element_case, const fs::path& 
     record.summary_file = summary_file;
     write_file_atomically(summary_file, summary_json(record));
   }
+  record.curve = std::move(result.curve);
   return record;
 }
 

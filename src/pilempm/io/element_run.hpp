@@ -13,9 +13,9 @@
 namespace pilempm {
 
 /// Runs one test and, when it succeeds, writes its curve CSV and JSON summary (an empty path
-/// skips that file). A model failure (pilempm::Error from the run) is caught and reported in
-/// the record; nothing is written then, so older files stay as they were. Errors writing the
-/// files are thrown.
+/// skips that file) and keeps the curve in the record. A model failure (pilempm::Error from the
+/// run) is caught and reported in the record; nothing is written then, so older files stay as they
+/// were. Errors writing the files are thrown.
 ElementRunRecord run_and_write(const ElementCase& element_case,
                                const std::filesystem::path& curve_file,
                                const std::filesystem::path& summary_file,

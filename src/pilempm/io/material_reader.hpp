@@ -1,7 +1,8 @@
 #pragma once
-// Materials from case files: [[material]] tables (hypoplastic, Mohr-Coulomb, linear elastic), the
-// named hypoplastic sets usable by name without a table, the intergranular strain ("igs": a named
-// set or an inline table) and the [integrator] table. Keys carry their units (h_s_MPa,
+// Materials from case files: [[material]] tables of any registered model (the model's own reader,
+// from constitutive/model_registry.hpp, reads its keys through a TomlParameterSource), the named
+// hypoplastic sets usable by name without a table, the intergranular strain ("igs": a named set
+// or an inline table) and the [integrator] table. Keys carry their units (h_s_MPa,
 // cohesion_kPa); everything returned is SI.
 #include <optional>
 #include <string>
@@ -9,16 +10,63 @@
 #include <vector>
 
 #include "pilempm/constitutive/constitutive_model.hpp"
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_material.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/constitutive/material_spec.hpp"
+#include "pilempm/constitutive/model_registry.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/io/toml_reader.hpp"
 
 namespace pilempm {
 
-/// Reads an igs value: a name (IGS1..IGS4, none) or an inline table {m_R, m_T, R, beta_r, chi},
-/// optionally with base = "<IGS set>" and single overrides.
+/// Reads an igs value of a case file (see the hypoplastic reader, read_igs).
 IgsChoice read_igs(TableReader& reader, std::string_view key);
+
+/// The ParameterSource of a TOML table: how models read their keys from case files.
+class TomlParameterSource final : public ParameterSource {
+ public:
+  explicit TomlParameterSource(TableReader& reader) : reader_(&reader) {}
+  explicit TomlParameterSource(TableReader&& reader)
+      : owned_(std::make_unique<TableReader>(std::move(reader))), reader_(owned_.get()) {}
+
+  bool contains(std::string_view key) override { return reader_->contains(key); }
+  bool holds_string(std::string_view key) override;
+  double number(std::string_view key, const NumberRange& range) override {
+    return reader_->number(key, range);
+  }
+  std::optional<double> optional_number(std::string_view key, const NumberRange& range) override {
+    return reader_->optional_number(key, range);
+  }
+  double number_or(std::string_view key, double fallback, const NumberRange& range) override {
+    return reader_->number_or(key, fallback, range);
+  }
+  bool boolean_or(std::string_view key, bool fallback) override {
+    return reader_->boolean_or(key, fallback);
+  }
+  std::string choice(std::string_view key, const std::vector<std::string>& allowed) override {
+    return reader_->choice(key, allowed);
+  }
+  std::optional<std::string> optional_choice(std::string_view key,
+                                             const std::vector<std::string>& allowed) override {
+    return reader_->optional_choice(key, allowed);
+  }
+  std::unique_ptr<ParameterSource> table(std::string_view key) override;
+  void declare(const std::vector<std::string>& keys) override { reader_->declare(keys); }
+  void check_no_unknown_keys() const override { reader_->check_no_unknown_keys(); }
+  InputError error(std::string_view key, const std::string& reason) const override {
+    return reader_->error(key, reason);
+  }
+  InputError error_from(const InvalidValue& invalid, const KeyMap& keys = {},
+                        const std::string& origin = "") const override {
+    return reader_->error_from(invalid, keys, origin);
+  }
+
+ private:
+  std::unique_ptr<TableReader> owned_;
+  TableReader* reader_;
+};
 
 /// Reads an [integrator] table: scheme, tolerance, min_mean_stress_Pa, fixed_substeps,
 /// max_substeps, min_substep (all optional; the library's defaults otherwise).

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <utility>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/material_reader.hpp"
 #include "pilempm/io/toml_reader.hpp"
@@ -97,16 +97,7 @@ mpm::SolverSettings read_solver(std::optional<TableReader> solver) {
 }
 
 double default_K0(const MaterialSpec& material) {
-  switch (material.kind) {
-    case ModelKind::hypoplastic:
-      return 1.0 - std::sin(material.hypoplastic.phi_c_deg * kPi / 180.0);  // Jáky
-    case ModelKind::mohr_coulomb:
-      return 1.0 - std::sin(material.mohr_coulomb.friction_angle_deg * kPi / 180.0);
-    case ModelKind::linear_elastic:
-      break;
-  }
-  const double nu = material.elastic.poisson_ratio;  // oedometric ν / (1 - ν)
-  return nu / (1.0 - nu);
+  return model_registry().at(material.model).at_rest_K0(*material.parameters);
 }
 
 MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
@@ -148,13 +139,13 @@ MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
                   fmt::format("unknown: must be a [[material]] name or a built-in set, one of {}",
                               fmt::join(catalog.names(), ", ")));
   r.material = *material;
-  const bool hypoplastic = material->kind == ModelKind::hypoplastic;
+  const bool hypoplastic = material->is_hypoplastic();
   if (hypoplastic) {
     r.igs_in_region = t.contains("igs");
     if (r.igs_in_region)
       r.igs = read_igs(t, "igs");
-    else if (material->igs)
-      r.igs = material->igs;
+    else if (material->hypoplastic_material().igs)
+      r.igs = material->hypoplastic_material().igs;
     else
       throw t.missing("igs", fmt::format("the hypoplastic model needs igs = one of {} or an "
                                          "inline table, in the region or its [[material]]",
@@ -167,7 +158,7 @@ MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
       if (t.contains(key))
         throw t.error(key, fmt::format("not allowed: the intergranular strain belongs to the "
                                        "hypoplastic model, and material \"{}\" is {}",
-                                       material_name, to_string(material->kind)));
+                                       material_name, material->model));
   }
 
   const std::string stress = t.choice("initial_stress", {"zero", "geostatic"});
@@ -194,7 +185,7 @@ MpmRegion read_region(TableReader& t, const MaterialCatalog& catalog, int index,
       throw t.error("e0_at", fmt::format("not allowed for material \"{}\" ({}): scaling from "
                                          "zero pressure needs the hypoplastic h_s and n; use "
                                          "\"initial-stress\"",
-                                         material_name, to_string(material->kind)));
+                                         material_name, material->model));
   }
   t.check_no_unknown_keys();
   return r;
@@ -471,12 +462,13 @@ void read_material_changes(TableReader& t, const MpmCase& c, const MaterialCatal
     for (std::size_t i = 0; i < c.regions.size(); ++i) {
       const MpmRegion& r = c.regions[i];
       if (r.material.name != role) continue;
-      if (spec->kind != r.material.kind)
-        throw materials.error(role,
-                              fmt::format("must be a {} material like \"{}\" (the "
-                                          "particles keep their state), not {}",
-                                          to_string(r.material.kind), role, to_string(spec->kind)));
-      const std::optional<IgsChoice> igs = r.igs_in_region || !spec->igs ? r.igs : spec->igs;
+      if (spec->model != r.material.model)
+        throw materials.error(role, fmt::format("must be a {} material like \"{}\" (the "
+                                                "particles keep their state), not {}",
+                                                r.material.model, role, spec->model));
+      const HypoplasticMaterial* hypoplastic = spec->parameters_as<HypoplasticMaterial>();
+      const std::optional<IgsChoice> igs =
+          r.igs_in_region || !(hypoplastic && hypoplastic->igs) ? r.igs : hypoplastic->igs;
       try {
         p.material_changes.push_back(
             {static_cast<int>(i), name, make_model(*spec, igs, catalog.integrator())});

@@ -17,7 +17,7 @@
 
 #include "pilempm/core/error.hpp"
 
-// File layout (version 1). Doubles are stored as native doubles and integers as native 32/64-bit
+// File layout (version 2). Doubles are stored as native doubles and integers as native 32/64-bit
 // integers, read back without conversion, so a round trip is bitwise.
 //   /                  attributes: format, format_version, geometry ("plane-strain" or
 //                      "axisymmetric"), grid_nx, grid_ny, particle_count, materials_count,
@@ -27,7 +27,11 @@
 //                      velocity, mass (n), initial_volume, volume, initial_half_size,
 //                      half_size, deformation_gradient (n, 2, 2; [p][row][column]),
 //                      out_of_plane_stretch, material (int), external_force, stress (n, 6; Mandel),
-//                      void_ratio, intergranular_strain (n, 6), plastic_shear_strain
+//                      void_ratio
+//   /particles/history one dataset (n, size) per history variable that a material's model
+//                      declares (ConstitutiveModel::history_variables, by name, e.g.
+//                      intergranular_strain (n, 6), plastic_shear_strain (n, 1)): a particle's
+//                      value where its model declares the variable, zero elsewhere
 //   /bodies/<k>        attributes kind ("polygon" or "pile"), part_count, friction,
 //                      contact_distance; datasets vertices (m, 2), displacement (2), velocity (2),
 //                      contact_force (2), contact_force_parts (parts, 2)
@@ -58,8 +62,7 @@ static_assert(sizeof(Particles) == 12 * sizeof(std::vector<double>),
 struct StoredMaterialState {
   Vec6 stress;
   double void_ratio;
-  Vec6 intergranular_strain;
-  double plastic_shear_strain;
+  std::array<double, kHistoryCapacity> history;  // as the models declare it
 };
 static_assert(sizeof(MaterialState) == sizeof(StoredMaterialState),
               "a member was added to MaterialState: store it in the checkpoint");
@@ -256,10 +259,39 @@ const std::vector<ParticleField>& particle_fields() {
       particle_field<&Particles::external_force>("external_force"),
       state_field<&MaterialState::stress>("stress"),
       state_field<&MaterialState::void_ratio>("void_ratio"),
-      state_field<&MaterialState::intergranular_strain>("intergranular_strain"),
-      state_field<&MaterialState::plastic_shear_strain>("plastic_shear_strain"),
   };
   return fields;
+}
+
+// One dataset of /particles/history: a history variable by name, as some model declares it.
+struct HistoryDataset {
+  std::string name;
+  int size;
+};
+
+// Every history variable the models declare, once by name (the sizes must agree).
+std::vector<HistoryDataset> history_datasets(const std::vector<ModelPtr>& models) {
+  std::vector<HistoryDataset> result;
+  for (const ModelPtr& model : models)
+    for (const HistoryVariable& v : model->history_variables()) {
+      const auto same = std::find_if(result.begin(), result.end(),
+                                     [&](const HistoryDataset& d) { return d.name == v.name; });
+      if (same == result.end())
+        result.push_back({v.name, v.size});
+      else if (same->size != v.size)
+        throw Error(
+            fmt::format("checkpoint: two models declare the history variable {} with "
+                        "sizes {} and {}",
+                        v.name, same->size, v.size));
+    }
+  return result;
+}
+
+// Where the model keeps the named variable (nullptr: it does not declare it).
+const HistoryVariable* find_history(const ConstitutiveModel& model, const std::string& name) {
+  for (const HistoryVariable& v : model.history_variables())
+    if (name == v.name) return &v;
+  return nullptr;
 }
 
 std::vector<double> flatten(const std::vector<Vec2>& points) {
@@ -373,7 +405,8 @@ class Writer {
   std::string file_;
 };
 
-void write_particles(const Writer& w, hid_t root, const Particles& particles) {
+void write_particles(const Writer& w, hid_t root, const Particles& particles,
+                     const std::vector<ModelPtr>& models) {
   const Handle group = w.group(root, "particles");
   const std::size_t n = particles.size();
   std::vector<double> values;
@@ -386,6 +419,19 @@ void write_particles(const Writer& w, hid_t root, const Particles& particles) {
     w.doubles(group.get(), field.name, dims, values);
   }
   w.dataset(group.get(), "material", H5T_NATIVE_INT, {n}, particles.material.data());
+  const Handle history = w.group(group.get(), "history");
+  for (const HistoryDataset& d : history_datasets(models)) {
+    const std::size_t size = static_cast<std::size_t>(d.size);
+    values.assign(n * size, 0.0);
+    for (std::size_t p = 0; p < n; ++p) {
+      const HistoryVariable* v =
+          find_history(*models[static_cast<std::size_t>(particles.material[p])], d.name);
+      if (v == nullptr) continue;
+      const double* from = particles.state[p].history.data() + v->offset;
+      std::copy(from, from + size, &values[p * size]);
+    }
+    w.doubles(history.get(), d.name.c_str(), {n, size}, values);
+  }
 }
 
 void write_bodies(const Writer& w, hid_t root, const Solver& solver,
@@ -467,7 +513,7 @@ void write_checkpoint_file(const Writer& w, const Solver& solver, const MpmCheck
     const std::vector<double>& y = solver.grid().y_axis().nodes();
     w.doubles(grid.get(), "x_nodes", {x.size()}, x);
     w.doubles(grid.get(), "y_nodes", {y.size()}, y);
-    write_particles(w, r, solver.particles());
+    write_particles(w, r, solver.particles(), solver.materials());
     write_bodies(w, r, solver, state);
     write_run_state(w, r, state);
     write_run_info(w, r, info);
@@ -714,6 +760,24 @@ Particles read_particles(const Reader& r, hid_t root, const Solver& solver) {
       r.fail(key("mass"), format_value(particles.mass[p]), "must be > 0");
     if (!(particles.volume[p] > 0.0 && std::isfinite(particles.volume[p])))
       r.fail(key("volume"), format_value(particles.volume[p]), "must be > 0");
+  }
+
+  // The history variables the case's models declare; other slots are zero.
+  for (std::size_t p = 0; p < n; ++p) particles.state[p].history.fill(0.0);
+  const Handle history = r.group(g, "history");
+  const std::string history_where = where + "/history";
+  const std::vector<ModelPtr>& models = solver.materials();
+  for (const HistoryDataset& d : history_datasets(models)) {
+    const std::size_t size = static_cast<std::size_t>(d.size);
+    const std::vector<double> values =
+        r.doubles(history.get(), history_where, d.name.c_str(), {n, size});
+    for (std::size_t p = 0; p < n; ++p) {
+      const HistoryVariable* v =
+          find_history(*models[static_cast<std::size_t>(particles.material[p])], d.name);
+      if (v == nullptr) continue;
+      std::copy(&values[p * size], &values[p * size] + size,
+                particles.state[p].history.data() + v->offset);
+    }
   }
   return particles;
 }

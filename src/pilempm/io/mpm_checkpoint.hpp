@@ -6,7 +6,8 @@
 // needs (the next phase, the particles' initial positions, the output records so far).
 // The materials are not stored: a restart takes them from the case file, so a checkpoint can be
 // continued with a different parameter set while every particle keeps its stress, void ratio and
-// intergranular strain. Files are written atomically (FILE.tmp, then renamed).
+// the history variables its model declares (e.g. the intergranular strain). Files are written
+// atomically (FILE.tmp, then renamed).
 #include <filesystem>
 #include <map>
 #include <string>
@@ -31,7 +32,7 @@ struct MpmCheckpointInfo {
 };
 
 /// The version of the file layout that write_mpm_checkpoint writes and read_mpm_checkpoint reads.
-inline constexpr int kMpmCheckpointFormatVersion = 1;
+inline constexpr int kMpmCheckpointFormatVersion = 2;
 
 /// Writes `solver` and `info` to `file` (HDF5), atomically. Throws Error naming the file when
 /// it cannot be written.

@@ -9,12 +9,12 @@
 #include <map>
 #include <sstream>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
-#include "pilempm/io/element_output.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
-#include "pilempm/io/text_escaping.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
+#include "pilempm/io/output/format.hpp"
 #include "pilempm/simulation/body_force_means.hpp"
 #include "pilempm/simulation/explicit_scheme.hpp"
 #include "pilempm/simulation/phase_control.hpp"
@@ -46,9 +46,25 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
                               const std::vector<int>& material_index) {
   const mpm::Particles& particles = solver.particles();
   const std::size_t n = particles.size();
-  const std::vector<double> igs_size = mpm_igs_sizes(solver);
-  const bool any_igs =
-      std::any_of(igs_size.begin(), igs_size.end(), [](double r) { return r > 0; });
+  // The models' own output fields by name (e.g. igs_rho), 0 where a particle's model lacks one;
+  // own[m][k]: model m's index of field k, -1 if it has none.
+  const std::vector<ModelPtr>& models = solver.materials();
+  std::vector<PointField> model_fields;
+  std::vector<std::vector<int>> own(models.size());
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    const std::vector<std::string> names = models[m]->output_fields();
+    for (std::size_t j = 0; j < names.size(); ++j) {
+      auto it = std::find_if(model_fields.begin(), model_fields.end(),
+                             [&](const PointField& f) { return f.name == names[j]; });
+      if (it == model_fields.end()) {
+        model_fields.push_back({names[j], 1, std::vector<double>(n)});
+        it = model_fields.end() - 1;
+      }
+      const std::size_t k = static_cast<std::size_t>(it - model_fields.begin());
+      if (own[m].size() <= k) own[m].resize(k + 1, -1);
+      own[m][k] = static_cast<int>(j);
+    }
+  }
 
   PointCloud cloud;
   cloud.coordinates.resize(3 * n);
@@ -56,7 +72,6 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
   PointField mean{"p_kPa", 1, std::vector<double>(n)};
   PointField deviator{"q_kPa", 1, std::vector<double>(n)};
   PointField void_ratio{"void_ratio", 1, std::vector<double>(n)};
-  PointField igs{"igs_rho", 1, std::vector<double>(any_igs ? n : 0)};
   PointField velocity{"velocity_m_per_s", 3, std::vector<double>(3 * n)};
   PointField displacement{"displacement_m", 3, std::vector<double>(3 * n)};
   PointField material{"material", 1, std::vector<double>(n)};
@@ -73,10 +88,11 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
     deviator.values[p] = deviator_stress(s) / kKPa;
     void_ratio.values[p] = state.void_ratio;
     const int model = particles.material[p];
-    if (any_igs) {
-      const double r = igs_size[static_cast<std::size_t>(model)];
-      igs.values[p] = r > 0.0 ? std::min(1.0, state.intergranular_strain.norm() / r) : 0.0;
-    }
+    const std::vector<int>& fields = own[static_cast<std::size_t>(model)];
+    for (std::size_t k = 0; k < fields.size(); ++k)
+      if (fields[k] >= 0)
+        model_fields[k].values[p] = models[static_cast<std::size_t>(model)]->output_field(
+            static_cast<std::size_t>(fields[k]), state);
     velocity.values[3 * p] = particles.velocity[p].x();
     velocity.values[3 * p + 1] = particles.velocity[p].y();
     const mpm::Vec2 u = x - initial_position[p];
@@ -88,7 +104,7 @@ PointCloud mpm_particle_cloud(const mpm::Solver& solver,
   cloud.fields.push_back(std::move(mean));
   cloud.fields.push_back(std::move(deviator));
   cloud.fields.push_back(std::move(void_ratio));
-  if (any_igs) cloud.fields.push_back(std::move(igs));
+  for (PointField& field : model_fields) cloud.fields.push_back(std::move(field));
   cloud.fields.push_back(std::move(velocity));
   cloud.fields.push_back(std::move(displacement));
   cloud.fields.push_back(std::move(material));
@@ -110,9 +126,10 @@ std::string mpm_energies_header(mpm::Geometry geometry) {
 
 std::string mpm_energies_row(const mpm::Solver& solver, double time_step) {
   const mpm::Energies& e = solver.energies();
-  return fmt::format("{:.10g},{},{:.6g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}\n",
-                     solver.time(), solver.steps(), time_step, e.kinetic, e.internal,
-                     e.external_work, e.damping, e.contact_work, e.absorbed);
+  return csv_row({csv_number(solver.time(), 10), std::to_string(solver.steps()),
+                  csv_number(time_step, 6), csv_number(e.kinetic, 10), csv_number(e.internal, 10),
+                  csv_number(e.external_work, 10), csv_number(e.damping, 10),
+                  csv_number(e.contact_work, 10), csv_number(e.absorbed, 10)});
 }
 
 namespace {
@@ -170,18 +187,19 @@ std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::st
     const mpm::RigidBodyForce& force =
         forces != nullptr ? forces->at(static_cast<std::size_t>(b)) : solver.rigid_body_force(b);
     rows += fmt::format(
-        "{:.10g},{},{},{},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g},{:.10g}", solver.time(),
-        solver.steps(), csv_field(phase), csv_field(body_names.at(static_cast<std::size_t>(b))),
-        body.displacement().x(), body.displacement().y(), body.velocity().x(), body.velocity().y(),
-        radial * factor * force.total.x(), factor * force.total.y());
+        "{},{},{},{},{},{},{},{},{},{}", csv_number(solver.time(), 10), solver.steps(),
+        csv_field(phase), csv_field(body_names.at(static_cast<std::size_t>(b))),
+        csv_number(body.displacement().x(), 10), csv_number(body.displacement().y(), 10),
+        csv_number(body.velocity().x(), 10), csv_number(body.velocity().y(), 10),
+        csv_number(radial * factor * force.total.x(), 10),
+        csv_number(factor * force.total.y(), 10));
     const std::vector<std::string>& own = body.part_names();
     for (const std::string& part : parts) {
       rows += ',';
       const auto at = std::find(own.begin(), own.end(), part);
       if (at == own.end()) continue;
       const auto index = static_cast<std::size_t>(at - own.begin());
-      if (index < force.parts.size())
-        rows += fmt::format("{:.10g}", factor * force.parts[index].y());
+      if (index < force.parts.size()) rows += csv_number(factor * force.parts[index].y(), 10);
     }
     rows += '\n';
   }

@@ -53,23 +53,6 @@ InputError parse_error_to_input_error(const toml::parse_error& e, const std::str
 
 }  // namespace
 
-bool NumberRange::contains(double value) const {
-  if (!std::isfinite(value)) return false;
-  if (lower_open ? !(value > lower) : !(value >= lower)) return false;
-  if (upper_open ? !(value < upper) : !(value <= upper)) return false;
-  return true;
-}
-
-std::string NumberRange::describe() const {
-  const bool has_lower = std::isfinite(lower), has_upper = std::isfinite(upper);
-  if (has_lower && has_upper)
-    return fmt::format("in {}{}, {}{}", lower_open ? "(" : "[", format_value(lower),
-                       format_value(upper), upper_open ? ")" : "]");
-  if (has_lower) return fmt::format("{} {}", lower_open ? ">" : ">=", format_value(lower));
-  if (has_upper) return fmt::format("{} {}", upper_open ? "<" : "<=", format_value(upper));
-  return "a finite number";
-}
-
 std::string read_case_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string(), 0, "", "", "cannot open the file for reading");

@@ -6,7 +6,7 @@
 #include <cstring>
 
 #include "pilempm/core/error.hpp"
-#include "pilempm/io/element_output.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 
 namespace pilempm {
 

@@ -6,22 +6,11 @@
 //   cos θ = (1 - w²/4) / (1 + w²/4),   sin θ = w / (1 + w²/4),
 // applied to the Mandel components directly (about a tenth of the general 3x3 cost; the tests
 // check that it equals rotate_state to round-off).
+#include <span>
+
 #include "pilempm/constitutive/material_state.hpp"
 
 namespace pilempm::mpm {
-
-// rotate_state rotates the stress and the intergranular strain; a new tensor in the state must
-// be rotated here too. This layout mirrors MaterialState's as it is written for.
-namespace detail {
-struct MaterialStateAsRotated {
-  Vec6 stress;
-  double void_ratio;
-  Vec6 intergranular_strain;
-  double plastic_shear_strain;
-};
-}  // namespace detail
-static_assert(sizeof(MaterialState) == sizeof(detail::MaterialStateAsRotated),
-              "MaterialState changed: rotate every tensor it holds in rotate_state_about_z");
 
 /// R A R^T for the rotation about z with cosine c and sine s, on a Mandel vector.
 inline void rotate_about_z(Vec6& a, double c, double s) {
@@ -34,18 +23,25 @@ inline void rotate_about_z(Vec6& a, double c, double s) {
   a[k23] = s * a13 + c * a23;
 }
 
-/// Rotates the stress and the intergranular strain by the spin increment w = W_21 = ½(∂v_y/∂x -
-/// ∂v_x/∂y) Δt, the in-plane equivalent of rotate_state().
-inline void rotate_state_about_z(MaterialState& state, double spin_increment) {
+/// Rotates the stress and the history tensors among `history` (the model's
+/// history_variables()) by the spin increment w = W_21 = ½(∂v_y/∂x - ∂v_x/∂y) Δt, the in-plane
+/// equivalent of rotate_state().
+inline void rotate_state_about_z(MaterialState& state, double spin_increment,
+                                 std::span<const HistoryVariable> history) {
   const double quarter_square = 0.25 * spin_increment * spin_increment;
   const double scale = 1.0 / (1.0 + quarter_square);
   const double c = (1.0 - quarter_square) * scale, s = spin_increment * scale;
   rotate_about_z(state.stress, c, s);
-  // A zero intergranular strain (a model without it) stays zero: skip the rotation.
-  const Vec6& delta = state.intergranular_strain;
-  if (delta[k11] != 0.0 || delta[k22] != 0.0 || delta[k12] != 0.0 || delta[k13] != 0.0 ||
-      delta[k23] != 0.0)
-    rotate_about_z(state.intergranular_strain, c, s);
+  for (const HistoryVariable& v : history) {
+    if (!v.tensor) continue;
+    double* a = state.history.data() + v.offset;
+    // A zero tensor (e.g. the intergranular strain of a model without it) stays zero: skip.
+    if (a[k11] == 0.0 && a[k22] == 0.0 && a[k12] == 0.0 && a[k13] == 0.0 && a[k23] == 0.0) continue;
+    Vec6 tensor = Eigen::Map<const Vec6>(a);
+    rotate_about_z(tensor, c, s);
+    Eigen::Map<Vec6> target(a);
+    target = tensor;
+  }
 }
 
 }  // namespace pilempm::mpm

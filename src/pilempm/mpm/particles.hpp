@@ -3,6 +3,7 @@
 // the particle number. In plane strain, mass and volume are per unit thickness; in axisymmetry
 // (x = r, y = z) they are per radian, V_p = r_p A_p.
 #include <Eigen/Core>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -52,6 +53,17 @@ struct Particles {
   /// Bytes of particle data per particle (the solver adds its per-particle scratch).
   static std::size_t bytes_per_particle();
 };
+
+/// cpGIMP: the half-lengths of a particle's domain that follow the stretch V = sqrt(F F^T) along
+/// x and y from their initial values (the 2x2 square root sqrt(B) = (B + sqrt(det B) I) /
+/// sqrt(tr B + 2 sqrt(det B)), B = F F^T).
+inline Vec2 stretched_half_size(const Vec2& initial_half_size, const Mat2& deformation_gradient) {
+  const Mat2 left_cauchy_green = deformation_gradient * deformation_gradient.transpose();
+  const double root_det = std::abs(deformation_gradient.determinant());
+  const double scale = 1.0 / std::sqrt(left_cauchy_green.trace() + 2.0 * root_det);
+  return initial_half_size.cwiseProduct(Vec2((left_cauchy_green(0, 0) + root_det) * scale,
+                                             (left_cauchy_green(1, 1) + root_det) * scale));
+}
 
 /// A rectangle to fill with particles, n_x × n_y per grid cell.
 struct RectangleFill {

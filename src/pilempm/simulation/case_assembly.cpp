@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 
@@ -56,9 +56,10 @@ void geostatic_state(const MpmCase& c, const MpmRegion& r, const ConstitutiveMod
   state.void_ratio = r.e0;
   if (hypoplastic != nullptr) {
     state.void_ratio = initial_void_ratio(hypoplastic->parameters(), r.e0, r.e0_at, mean);
-    state.intergranular_strain = Vec6::Zero();
+    Hypoplastic::intergranular_strain(state) = Vec6::Zero();
     if (hypoplastic->intergranular().enabled() && r.igs_compression)
-      state.intergranular_strain = -hypoplastic->intergranular().R / kSqrt3 * identity6();
+      Hypoplastic::intergranular_strain(state) =
+          -hypoplastic->intergranular().R / kSqrt3 * identity6();
   }
   if (hypoplastic != nullptr && (!std::isfinite(state.void_ratio) || state.void_ratio <= 0.0))
     throw InputError(c.source, r.line, r.key + ".e0", fmt::format("{}", r.e0),

@@ -15,10 +15,11 @@
 #include "pilempm/constitutive/material_state.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
-#include "pilempm/io/element_output.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
-#include "pilempm/io/text_escaping.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
+#include "pilempm/io/output/format.hpp"
+#include "pilempm/io/output/json_writer.hpp"
 #include "pilempm/io/vtu_writer.hpp"
 #include "pilempm/simulation/body_force_means.hpp"
 #include "pilempm/simulation/phase_control.hpp"
@@ -56,13 +57,14 @@ std::string pile_csv(const std::vector<PileRow>& rows, double D) {
     text += column == centrifuge_pile_columns().back() ? '\n' : ',';
   }
   for (const PileRow& r : rows)
-    text += fmt::format(
-        "{:.8g},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.8g},{:.8g},{:."
-        "6g},{:.6g},{:.6g},{:.8g},{:.8g}\n",
-        r.time, csv_field(r.phase), 1e3 * r.displacement, 1e3 * r.phase_displacement,
-        1e3 * r.tip_depth, r.tip_depth / D, r.head, r.tip, r.shaft, r.tip / tip_area / 1e6,
-        r.base_reaction, r.soil_weight, r.equilibrium_residual(), r.kinetic, r.pile_work,
-        r.phase_displacement / D, r.momentum_rate, r.damping);
+    text += csv_row({csv_number(r.time, 8), r.phase, csv_number(1e3 * r.displacement, 6),
+                     csv_number(1e3 * r.phase_displacement, 6), csv_number(1e3 * r.tip_depth, 6),
+                     csv_number(r.tip_depth / D, 6), csv_number(r.head, 6), csv_number(r.tip, 6),
+                     csv_number(r.shaft, 6), csv_number(r.tip / tip_area / 1e6, 6),
+                     csv_number(r.base_reaction, 6), csv_number(r.soil_weight, 8),
+                     csv_number(r.equilibrium_residual(), 8), csv_number(r.kinetic, 6),
+                     csv_number(r.pile_work, 6), csv_number(r.phase_displacement / D, 6),
+                     csv_number(r.momentum_rate, 8), csv_number(r.damping, 8)});
   return text;
 }
 
@@ -77,11 +79,13 @@ std::string fields_csv(const mpm::Solver& solver, double surface) {
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const MaterialState& state = particles.state[p];
     const double R = igs_size[static_cast<std::size_t>(particles.material[p])];
-    const double rho = R > 0.0 ? std::min(1.0, state.intergranular_strain.norm() / R) : 0.0;
+    const double rho =
+        R > 0.0 ? std::min(1.0, Vec6(Hypoplastic::intergranular_strain(state)).norm() / R) : 0.0;
     text +=
-        fmt::format("{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.4g}\n", 1e3 * particles.position[p].x(),
-                    1e3 * (surface - particles.position[p].y()), state.void_ratio,
-                    mean_stress(state.stress) / 1e3, deviator_stress(state.stress) / 1e3, rho);
+        csv_row({csv_number(1e3 * particles.position[p].x(), 6),
+                 csv_number(1e3 * (surface - particles.position[p].y()), 6),
+                 csv_number(state.void_ratio, 6), csv_number(mean_stress(state.stress) / 1e3, 6),
+                 csv_number(deviator_stress(state.stress) / 1e3, 6), csv_number(rho, 4)});
   }
   return text;
 }
@@ -122,14 +126,8 @@ class FieldWriter final : public RunObserver {
   std::vector<mpm::Vec2> reference_position_;  // after the K0 phase
 };
 
-std::string number_json(double value) {
-  return std::isfinite(value) ? fmt::format("{:.6g}", value) : "null";
-}
-
 std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummary& r) {
-  auto value = [](double v, const char* format) {
-    return std::isfinite(v) ? fmt::format(fmt::runtime(format), v) : std::string("-");
-  };
+  auto value = [](double v, const char* format) { return shown_number(v, format); };
   std::string md = fmt::format("# {}\n\n", r.title);
   md += fmt::format(
       "D = {:g} mm at {:g} g, container R = {:g} D, sand H = {:g} D, e0 = {:g} ({}), set \"{}\" "
@@ -347,7 +345,7 @@ std::vector<std::pair<std::string, double>> summary_numbers(const CentrifugeSumm
 std::string centrifuge_summary_json(const CentrifugeSummary& r) {
   std::string json = "{\n  \"title\": " + json_quote(r.title);
   for (const auto& [key, value] : summary_numbers(r))
-    json += fmt::format(",\n  {}: {}", json_quote(key), number_json(value));
+    json += fmt::format(",\n  {}: {}", json_quote(key), json_number(value, 6));
   return json + "\n}\n";
 }
 
@@ -356,7 +354,7 @@ std::string centrifuge_summary_csv(const CentrifugeSummary& r) {
   std::string row;
   for (const auto& [key, value] : summary_numbers(r)) {
     header += (row.empty() ? "" : ",") + key;
-    row += (row.empty() ? "" : ",") + fmt::format("{:.8g}", value);
+    row += (row.empty() ? "" : ",") + csv_number(value, 8);
   }
   return header + "\n" + row + "\n";
 }

@@ -8,7 +8,8 @@
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
-#include "pilempm/io/element_output.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
+#include "pilempm/io/output/format.hpp"
 #include "pilempm/io/toml_reader.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 #include "pilempm/study/csv_table.hpp"
@@ -142,7 +143,7 @@ std::string cell(const NumericTable& t, const std::string& column, const char* f
                  double scale = 1.0) {
   if (!t.has(column) || t.rows() == 0) return "-";
   const double v = t.column(column).back();
-  return std::isfinite(v) ? fmt::format(fmt::runtime(format), scale * v) : std::string("-");
+  return shown_number(scale * v, format);
 }
 
 }  // namespace

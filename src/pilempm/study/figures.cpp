@@ -1,7 +1,5 @@
 #include "pilempm/study/figures.hpp"
 
-#include "pilempm/io/text_escaping.hpp"
-
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -9,22 +7,25 @@
 #include <utility>
 
 #include "pilempm/core/error.hpp"
+#include "pilempm/io/output/format.hpp"
+#include "pilempm/io/output/json_writer.hpp"
 
 namespace pilempm {
 
 namespace {
 
-std::string json_number(double value) {
+// A number of a figure: a non-finite one is a mistake of the figure, not a missing value.
+std::string figure_number(double value) {
   if (!std::isfinite(value)) throw Error(fmt::format("figures.json: non-finite number {}", value));
-  return fmt::format("{}", value + 0.0);
+  return json_number(value);
 }
 
 std::string axis_json(const AxisSpec& axis) {
   std::string out = "{\"label\": " + json_quote(axis.label);
   if (axis.log) out += ", \"log\": true";
   if (axis.limits)
-    out += fmt::format(", \"limits\": [{}, {}]", json_number(axis.limits->first),
-                       json_number(axis.limits->second));
+    out += fmt::format(", \"limits\": [{}, {}]", figure_number(axis.limits->first),
+                       figure_number(axis.limits->second));
   if (axis.invert) out += ", \"invert\": true";
   return out + "}";
 }
@@ -34,8 +35,8 @@ std::string style_json(const SeriesStyle& style) {
       "{\"linestyle\": " + json_quote(style.linestyle.empty() ? "none" : style.linestyle);
   if (!style.color.empty()) out += ", \"color\": " + json_quote(style.color);
   if (!style.marker.empty()) out += ", \"marker\": " + json_quote(style.marker);
-  out += ", \"linewidth\": " + json_number(style.linewidth);
-  if (style.markersize > 0.0) out += ", \"markersize\": " + json_number(style.markersize);
+  out += ", \"linewidth\": " + figure_number(style.linewidth);
+  if (style.markersize > 0.0) out += ", \"markersize\": " + figure_number(style.markersize);
   return out + "}";
 }
 
@@ -49,8 +50,8 @@ std::string series_json(const SeriesSpec& s) {
     color = ", \"color_by\": {\"column\": " + json_quote(s.color_by) +
             ", \"label\": " + json_quote(s.color_label) + ", \"cmap\": " + json_quote(s.colormap);
     if (s.color_limits)
-      color += fmt::format(", \"limits\": [{}, {}]", json_number(s.color_limits->first),
-                           json_number(s.color_limits->second));
+      color += fmt::format(", \"limits\": [{}, {}]", figure_number(s.color_limits->first),
+                           figure_number(s.color_limits->second));
     if (s.color_log) color += ", \"log\": true";
     color += "}";
   }
@@ -97,8 +98,8 @@ std::string figures_json(const std::vector<FigureSpec>& figures) {
     out += "\"file\": " + json_quote(fig.file) + ", \"title\": " + json_quote(fig.title);
     out += fmt::format(", \"layout\": [{}, {}]", fig.rows, fig.cols);
     if (fig.width_in > 0.0 && fig.height_in > 0.0)
-      out += fmt::format(", \"size_in\": [{}, {}]", json_number(fig.width_in),
-                         json_number(fig.height_in));
+      out += fmt::format(", \"size_in\": [{}, {}]", figure_number(fig.width_in),
+                         figure_number(fig.height_in));
     if (fig.sharex) out += ", \"sharex\": true";
     if (fig.sharey) out += ", \"sharey\": true";
     if (fig.shared_legend) out += ", \"shared_legend\": true";

@@ -8,7 +8,7 @@
 #include <limits>
 #include <numbers>
 
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/mpm/grid.hpp"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/constitutive/material_spec.hpp"
 #include "pilempm/simulation/mpm_case.hpp"
 

@@ -1,10 +1,10 @@
-#include "pilempm/constitutive/mohr_coulomb.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 
 #include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
 
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 
 namespace pilempm {
@@ -237,7 +237,7 @@ UpdateResult MohrCoulomb::update(MaterialState& state, const Vec6& strain_increm
   }
   state.stress = stress;
   state.void_ratio = void_ratio;
-  state.plastic_shear_strain += plastic_shear;
+  plastic_shear_strain(state) += plastic_shear;
   result.substeps = 1;
   return result;
 }
@@ -260,6 +260,14 @@ double MohrCoulomb::mohr_coulomb_function(const Vec6& stress) const {
 double MohrCoulomb::tension_function(const Vec6& stress) const {
   if (!cutoff_active_) return -std::numeric_limits<double>::infinity();
   return principal_values(stress)[2] - tension_cutoff_;
+}
+
+namespace {
+constexpr HistoryVariable kHistory[] = {{"plastic_shear_strain", 0, 1, false}};
+}  // namespace
+
+std::span<const HistoryVariable> MohrCoulomb::history_variables() const {
+  return kHistory;
 }
 
 }  // namespace pilempm

@@ -1,4 +1,4 @@
-#include "pilempm/constitutive/hypoplastic.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,28 +20,6 @@ inline double power(double x, double y) {
 
 }  // namespace
 
-void IntegratorSettings::validate() const {
-  if (!(tolerance > 0.0 && tolerance <= 0.1))
-    throw InvalidValue("tolerance", format_value(tolerance), "in (0, 0.1]");
-  if (fixed_substeps < 0)
-    throw InvalidValue("fixed_substeps", std::to_string(fixed_substeps), ">= 0 (0: adaptive)");
-  if (max_substeps < 1) throw InvalidValue("max_substeps", std::to_string(max_substeps), ">= 1");
-  if (!(min_substep > 0.0 && min_substep < 1.0))
-    throw InvalidValue("min_substep", format_value(min_substep), "in (0, 1)");
-  if (!(min_mean_stress > 0.0 && std::isfinite(min_mean_stress)))
-    throw InvalidValue("min_mean_stress_Pa", format_value(min_mean_stress), "> 0");
-}
-
-IntegratorSettings::Scheme parse_integrator_scheme(std::string_view text, std::string_view key) {
-  if (text == "heun-euler") return IntegratorSettings::Scheme::heun_euler;
-  if (text == "bogacki-shampine") return IntegratorSettings::Scheme::bogacki_shampine;
-  throw InvalidValue(std::string(key), std::string(text), "\"heun-euler\" or \"bogacki-shampine\"");
-}
-
-std::string_view to_string(IntegratorSettings::Scheme scheme) {
-  return scheme == IntegratorSettings::Scheme::heun_euler ? "heun-euler" : "bogacki-shampine";
-}
-
 // The integrated variables; the same type holds their rates.
 struct Hypoplastic::Point {
   Vec6 stress;
@@ -59,6 +37,23 @@ struct Hypoplastic::Point {
     stress += h * k.stress;
     void_ratio += h * k.void_ratio;
     delta += h * k.delta;
+  }
+  // this = s * (a - b)
+  void assign_scaled_difference(double s, const Point& a, const Point& b) {
+    stress = s * (a.stress - b.stress);
+    void_ratio = s * (a.void_ratio - b.void_ratio);
+    delta = s * (a.delta - b.delta);
+  }
+  // this = h * (w1 k1 + w2 k2 + w3 k3 + w4 k4)
+  void assign_combination(double h, double w1, const Point& k1, double w2, const Point& k2,
+                          double w3, const Point& k3, double w4, const Point& k4) {
+    stress = h * (w1 * k1.stress + w2 * k2.stress + w3 * k3.stress + w4 * k4.stress);
+    void_ratio =
+        h * (w1 * k1.void_ratio + w2 * k2.void_ratio + w3 * k3.void_ratio + w4 * k4.void_ratio);
+    delta = h * (w1 * k1.delta + w2 * k2.delta + w3 * k3.delta + w4 * k4.delta);
+  }
+  bool operator==(const Point& other) const {
+    return stress == other.stress && void_ratio == other.void_ratio && delta == other.delta;
   }
 };
 
@@ -90,6 +85,23 @@ double Hypoplastic::f_b_constant(const HypoplasticParameters::Reference& r) cons
   // (h_s/n) (e_i0/e_c0)^beta / [3 + a^2 - a sqrt3 ((e_i0-e_d0)/(e_c0-e_d0))^alpha]
   return (parameters_.h_s / parameters_.n) * std::pow(r.e_i0 / r.e_c0, parameters_.beta) /
          f_b_denominator(parameters_.phi_c_deg, r);
+}
+
+namespace {
+constexpr HistoryVariable kHistory[] = {{"intergranular_strain", 0, 6, true}};
+}  // namespace
+
+std::span<const HistoryVariable> Hypoplastic::history_variables() const {
+  return kHistory;
+}
+
+std::vector<std::string> Hypoplastic::output_fields() const {
+  if (!intergranular_.enabled()) return {};
+  return {"igs_rho"};  // ||delta|| / R, the mobilisation of the intergranular strain
+}
+
+double Hypoplastic::output_field(std::size_t, const MaterialState& state) const {
+  return std::min(1.0, Vec6(intergranular_strain(state)).norm() / intergranular_.R);
 }
 
 std::string Hypoplastic::name() const {
@@ -185,7 +197,7 @@ Hypoplastic::BauerFactor Hypoplastic::evaluate(const Point& y, const Vec6& D,
 }
 
 Hypoplastic::Rate Hypoplastic::rate(const MaterialState& state, const Vec6& stretching) const {
-  Point y{state.stress, state.void_ratio, state.intergranular_strain};
+  Point y{state.stress, state.void_ratio, intergranular_strain(state)};
   Point k;
   evaluate(y, stretching, k);
   return {k.stress, k.void_ratio, k.delta};
@@ -197,10 +209,10 @@ Mat6 Hypoplastic::tangent(const MaterialState& state, const Vec6& strain_directi
   const Vec6 D_hat = norm_D > 0.0 ? Vec6(strain_direction / norm_D) : Vec6(Vec6::Zero());
   if (!intergranular_.enabled()) return terms.L + outer(terms.N, D_hat);
   const auto& igs = intergranular_;
-  const double norm_delta = state.intergranular_strain.norm();
+  const Vec6 delta = intergranular_strain(state);
+  const double norm_delta = delta.norm();
   const double rho = std::min(norm_delta / igs.R, 1.0);
-  const Vec6 delta_hat =
-      norm_delta > 0.0 ? Vec6(state.intergranular_strain / norm_delta) : Vec6(Vec6::Zero());
+  const Vec6 delta_hat = norm_delta > 0.0 ? Vec6(delta / norm_delta) : Vec6(Vec6::Zero());
   const double rho_chi = power(rho, igs.chi);
   const double m = rho_chi * igs.m_T + (1.0 - rho_chi) * igs.m_R;
   const Vec6 L_delta = terms.L * delta_hat;
@@ -284,150 +296,43 @@ void Hypoplastic::set_to_floor(Point& y) const {
   y.stress = -integrator_.min_mean_stress * identity6();
 }
 
+// The rate equations over one strain increment D, integrated over the pseudo-time t in [0, 1]:
+// what integrate_embedded_runge_kutta needs (see its header), all inline in this file.
+struct Hypoplastic::Increment {
+  using Point = Hypoplastic::Point;
+  using Hint = Hypoplastic::BauerFactor;
+  const Hypoplastic& model;
+  const Vec6& D;
+
+  Hint rate(const Point& y, Point& k) const { return model.evaluate(y, D, k); }
+  bool admissible(const Point& y) const { return model.admissible(y); }
+  double error_norm(const Point& error, const Point& y) const { return model.error_norm(error, y); }
+  void restore_bounds(Point& y, UpdateResult& result, const Hint* nearby) const {
+    model.restore_bounds(y, result, nearby);
+  }
+  void set_to_edge(Point& y) const { model.set_to_floor(y); }
+  // On the floor the stress stays; e and delta follow their rates.
+  void advance_on_edge(Point& y, double dt, const Point& k) const {
+    y.void_ratio += dt * k.void_ratio;
+    y.delta += dt * k.delta;
+  }
+};
+
 UpdateResult Hypoplastic::update(MaterialState& state, const Vec6& strain_increment) const {
-  UpdateResult result;
-  const auto& settings = integrator_;
-  Point y{state.stress, state.void_ratio, state.intergranular_strain};
   if (!state.stress.allFinite() || !std::isfinite(state.void_ratio) || !(state.void_ratio > 0.0) ||
       !strain_increment.allFinite()) {
+    UpdateResult result;
     result.ok = false;
     result.message = "non-finite stress, void ratio or strain increment, or void ratio <= 0";
     return result;
   }
-  if (!admissible(y)) {  // starts outside the domain: stress-free sand sits on the floor
-    set_to_floor(y);
-    ++result.mean_stress_floor_hits;
-  }
-  const Vec6& D = strain_increment;  // integrated over the pseudo-time t in [0, 1]
-  const bool adaptive = settings.fixed_substeps == 0;
-  const bool heun = settings.scheme == IntegratorSettings::Scheme::heun_euler;
-  // (tolerance / error)^(1 / (order of the error estimate + 1)), without pow() (it ran once a
-  // step for every particle of an MPM run).
-  auto step_factor = [heun](double ratio) { return heun ? std::sqrt(ratio) : std::cbrt(ratio); };
-
-  double t = 0.0;
-  double h = adaptive ? 1.0 : 1.0 / settings.fixed_substeps;
-  Point k1, k2, k3, k4, trial, low;
-  BauerFactor nearby;  // at the last evaluation, close to the point accepted next
-  bool k1_valid = false;
-  int attempts = 0;
-  while (t < 1.0) {
-    if (++attempts > settings.max_substeps) {
-      result.ok = false;
-      result.message = "hypoplastic integrator: too many sub-steps";
-      return result;
-    }
-    h = std::min(h, 1.0 - t);
-    if (!k1_valid) evaluate(y, D, k1);
-    double error = 0.0;
-    bool inside = true;
-    if (heun) {
-      // Modified Euler: y1 = y + h k1 (1st order), y2 = y + h/2 (k1 + k2) (2nd order).
-      trial.assign_step(y, h, k1);
-      inside = admissible(trial);
-      if (inside) {
-        nearby = evaluate(trial, D, k2);
-        trial.assign_step(y, 0.5 * h, k1);
-        trial.add(0.5 * h, k2);
-        inside = admissible(trial);
-        if (inside && adaptive) {
-          low.stress = 0.5 * h * (k2.stress - k1.stress);
-          low.void_ratio = 0.5 * h * (k2.void_ratio - k1.void_ratio);
-          low.delta = 0.5 * h * (k2.delta - k1.delta);
-          error = error_norm(low, trial);
-        }
-      }
-    } else {
-      // Bogacki & Shampine (1989) RK3(2): c = (0, 1/2, 3/4, 1), FSAL.
-      trial.assign_step(y, 0.5 * h, k1);
-      inside = admissible(trial);
-      if (inside) {
-        evaluate(trial, D, k2);
-        trial.assign_step(y, 0.75 * h, k2);
-        inside = admissible(trial);
-      }
-      if (inside) {
-        evaluate(trial, D, k3);
-        trial.assign_step(y, 2.0 / 9.0 * h, k1);
-        trial.add(1.0 / 3.0 * h, k2);
-        trial.add(4.0 / 9.0 * h, k3);
-        inside = admissible(trial);
-        if (inside) nearby = evaluate(trial, D, k4);
-        if (inside && adaptive) {
-          // y3 - y2 with the 2nd-order weights (7/24, 1/4, 1/3, 1/8).
-          const double w1 = 2.0 / 9.0 - 7.0 / 24.0, w2 = 1.0 / 3.0 - 0.25,
-                       w3 = 4.0 / 9.0 - 1.0 / 3.0, w4 = -0.125;
-          low.stress = h * (w1 * k1.stress + w2 * k2.stress + w3 * k3.stress + w4 * k4.stress);
-          low.void_ratio = h * (w1 * k1.void_ratio + w2 * k2.void_ratio + w3 * k3.void_ratio +
-                                w4 * k4.void_ratio);
-          low.delta = h * (w1 * k1.delta + w2 * k2.delta + w3 * k3.delta + w4 * k4.delta);
-          error = error_norm(low, trial);
-        }
-      }
-    }
-
-    if (!inside) {
-      if (h > settings.min_substep) {  // approach the edge of the domain with smaller steps
-        h *= 0.25;
-        ++result.rejected_substeps;
-        k1_valid = true;
-        continue;
-      }
-      // The edge is reached within min_substep: the point becomes stress-free (floor).
-      set_to_floor(y);
-      ++result.mean_stress_floor_hits;
-      t += h;
-      restore_bounds(y, result);
-      k1_valid = false;
-      // Does the rest of the increment keep pulling the point apart? Then it stays on the floor.
-      evaluate(y, D, k1);
-      trial.assign_step(y, 1.0 - t, k1);
-      if (!admissible(trial)) {
-        y.void_ratio += (1.0 - t) * k1.void_ratio;
-        y.delta += (1.0 - t) * k1.delta;
-        restore_bounds(y, result);
-        t = 1.0;
-        break;
-      }
-      k1_valid = true;
-      h = 1.0 - t;
-      continue;
-    }
-
-    if (adaptive && error > settings.tolerance) {
-      h *= std::max(0.1, 0.9 * step_factor(settings.tolerance / error));
-      ++result.rejected_substeps;
-      k1_valid = true;
-      if (h < settings.min_substep) {
-        result.ok = false;
-        result.message = "hypoplastic integrator: sub-step below min_substep at the tolerance";
-        return result;
-      }
-      continue;
-    }
-    // Accept.
-    const Point before = trial;
-    y = trial;
-    restore_bounds(y, result, &nearby);
-    t += h;
-    ++result.substeps;
-    // FSAL: k4 is the rate at the accepted point unless the bounds moved it.
-    if (!heun && y.stress == before.stress && y.void_ratio == before.void_ratio &&
-        y.delta == before.delta) {
-      k1 = k4;
-      k1_valid = true;
-    } else {
-      k1_valid = false;
-    }
-    if (adaptive) {
-      const double growth = error > 0.0 ? 0.9 * step_factor(settings.tolerance / error) : 4.0;
-      h *= std::clamp(growth, 0.2, 4.0);
-    }
-  }
-
+  Point y{state.stress, state.void_ratio, intergranular_strain(state)};
+  const UpdateResult result =
+      integrate_embedded_runge_kutta(Increment{*this, strain_increment}, y, integrator_);
+  if (!result.ok) return result;
   state.stress = y.stress;
   state.void_ratio = y.void_ratio;
-  state.intergranular_strain = y.delta;
+  intergranular_strain(state) = y.delta;
   return result;
 }
 

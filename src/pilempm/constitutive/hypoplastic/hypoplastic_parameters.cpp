@@ -1,10 +1,10 @@
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <cmath>
 
-#include "pilempm/constitutive/rohe_void_ratios.hpp"
+#include "pilempm/constitutive/hypoplastic/rohe_void_ratios.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 

@@ -1,8 +1,9 @@
 #pragma once
 // Hypoplasticity for sand after von Wolffersdorff (1996), Mech. Cohes.-Frict. Mater. 1, 251-271,
 // with the intergranular strain of Niemunis & Herle (1997), Mech. Cohes.-Frict. Mater. 2,
-// 279-299, exactly as written in BRIEF.md §2, integrated by an explicit embedded Runge-Kutta pair
-// with adaptive sub-stepping and local error control (in the spirit of Fellin & Ostermann 2002).
+// 279-299, exactly as written in BRIEF.md §2, integrated by the explicit embedded Runge-Kutta pair
+// of integration/embedded_runge_kutta.hpp with adaptive sub-stepping and local error control. This
+// file gives the integrator the rates and the edges of the model's domain.
 //
 // Treatment of the edges of the model's domain (the model is undefined at tr T = 0):
 //  * Mean stress floor. A trial sub-step that leaves the admissible stress domain (a tensile
@@ -19,29 +20,10 @@
 //    and users can see that it stays at round-off level in ordinary loading.
 //  * Intergranular strain: ||delta|| <= R is restored after each accepted sub-step.
 #include "pilempm/constitutive/constitutive_model.hpp"
-#include "pilempm/constitutive/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/integration/embedded_runge_kutta.hpp"
 
 namespace pilempm {
-
-/// How the rate equations are integrated over one strain increment.
-struct IntegratorSettings {
-  enum class Scheme {
-    heun_euler,  ///< modified Euler, 2nd order with a 1st-order error estimate (2 evaluations)
-    bogacki_shampine,  ///< RK3(2) of Bogacki & Shampine (1989), 3rd order, FSAL (3 evaluations)
-  };
-  Scheme scheme = Scheme::heun_euler;
-  double tolerance = 1.0e-3;     ///< relative local error per sub-step, in (0, 0.1]
-  int fixed_substeps = 0;        ///< > 0: no error control, this many equal sub-steps (studies)
-  int max_substeps = 200000;     ///< more accepted plus rejected sub-steps is a failure
-  double min_substep = 1.0e-6;   ///< smallest sub-step as a fraction of the increment
-  double min_mean_stress = 1.0;  ///< p_min [Pa]: the mean stress floor, > 0
-
-  void validate() const;
-};
-
-/// Parses "heun-euler" or "bogacki-shampine".
-IntegratorSettings::Scheme parse_integrator_scheme(std::string_view text, std::string_view key);
-std::string_view to_string(IntegratorSettings::Scheme scheme);
 
 class Hypoplastic final : public ConstitutiveModel {
  public:
@@ -54,6 +36,19 @@ class Hypoplastic final : public ConstitutiveModel {
   UpdateResult update(MaterialState& state, const Vec6& strain_increment) const override;
   Mat6 tangent(const MaterialState& state, const Vec6& strain_direction) const override;
   double wave_modulus(const MaterialState& state) const override;
+  /// "intergranular_strain" (a tensor, zero without intergranular strain).
+  std::span<const HistoryVariable> history_variables() const override;
+  /// "igs_rho" = min(1, ||delta|| / R) with intergranular strain, nothing without.
+  std::vector<std::string> output_fields() const override;
+  double output_field(std::size_t index, const MaterialState& state) const override;
+
+  /// The intergranular strain delta of Niemunis & Herle (1997) in a state's history [-].
+  static Eigen::Map<Vec6> intergranular_strain(MaterialState& state) {
+    return Eigen::Map<Vec6>(state.history.data());
+  }
+  static Eigen::Map<const Vec6> intergranular_strain(const MaterialState& state) {
+    return Eigen::Map<const Vec6>(state.history.data());
+  }
 
   /// The objective rates of stress, void ratio and intergranular strain for the stretching D.
   struct Rate {
@@ -76,7 +71,8 @@ class Hypoplastic final : public ConstitutiveModel {
   const IntegratorSettings& integrator() const { return integrator_; }
 
  private:
-  struct Point;  // the integrated variables (stress, void ratio, intergranular strain)
+  struct Point;      // the integrated variables (stress, void ratio, intergranular strain)
+  struct Increment;  // the rate equations for one strain increment, as the integrator sees them
   struct StressFunctions;
   StressFunctions stress_functions(const Vec6& stress, double void_ratio) const;
   // Bauer's factor exp(-x^n) at x = 3p/h_s, as evaluate() found it at its point.

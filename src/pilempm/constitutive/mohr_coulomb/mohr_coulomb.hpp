@@ -95,6 +95,12 @@ class MohrCoulomb final : public ConstitutiveModel {
   Mat6 tangent(const MaterialState& state, const Vec6& strain_direction) const override;
   /// K + 4G/3.
   double wave_modulus(const MaterialState& state) const override;
+  /// "plastic_shear_strain" (a scalar).
+  std::span<const HistoryVariable> history_variables() const override;
+
+  /// The accumulated plastic shear strain in a state's history [-].
+  static double& plastic_shear_strain(MaterialState& state) { return state.history[0]; }
+  static double plastic_shear_strain(const MaterialState& state) { return state.history[0]; }
 
   /// Exact return of principal trial stresses sorted s1 >= s2 >= s3.
   PrincipalReturn return_principal(const Vec3& sorted_trial) const;

@@ -1,4 +1,4 @@
-#include "pilempm/constitutive/linear_elastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 
 #include <cmath>
 

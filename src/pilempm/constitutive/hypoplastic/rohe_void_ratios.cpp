@@ -1,4 +1,4 @@
-#include "pilempm/constitutive/rohe_void_ratios.hpp"
+#include "pilempm/constitutive/hypoplastic/rohe_void_ratios.hpp"
 
 #include <cmath>
 

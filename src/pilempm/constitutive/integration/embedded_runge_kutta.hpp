@@ -1,0 +1,219 @@
+#pragma once
+// An explicit embedded Runge-Kutta integrator with adaptive sub-stepping and local error control
+// for the rate equations of a constitutive model (in the spirit of Fellin & Ostermann 2002),
+// written once for every model: the model supplies the rates and the edges of its domain, the
+// integrator the sub-stepping. The same split as MFront's Runge-Kutta integrators and the
+// soilmodels UMATs, where the rate function is one routine and the integrator another.
+//
+// The strain increment is integrated over a pseudo-time t in [0, 1]. What the model supplies (a
+// `Problem`, see below) and what the integrator does with it:
+//  * Admissibility. A trial sub-step that leaves the model's domain (Problem::admissible false)
+//    is rejected and the sub-step shrunk by 4. Once the sub-step is below `min_substep`, the
+//    point has reached the edge of the domain: Problem::set_to_edge puts it there (for sand: the
+//    stress-free floor -p_min I, counted as a "floor hit" in UpdateResult). If the rest of the
+//    increment still leads out of the domain, the point stays on the edge for the rest of the
+//    increment while its other variables follow their rates (Problem::advance_on_edge);
+//    otherwise integration goes on. A point that starts outside the domain is put on the edge.
+//  * Bounds. After every accepted sub-step Problem::restore_bounds puts the variables back into
+//    their bounds (for sand: the void ratio band and |delta| <= R), given a `Hint` that the last
+//    rate evaluation left (a value the bounds can reuse, e.g. a factor of the stress level).
+//  * Error control. The local error of the embedded lower-order solution, measured by
+//    Problem::error_norm, is kept below `tolerance` per sub-step; `fixed_substeps` > 0 switches
+//    the control off (equal sub-steps, for convergence studies).
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+#include <string>
+#include <string_view>
+
+#include "pilempm/constitutive/constitutive_model.hpp"
+
+namespace pilempm {
+
+/// How the rate equations are integrated over one strain increment.
+struct IntegratorSettings {
+  enum class Scheme {
+    heun_euler,  ///< modified Euler, 2nd order with a 1st-order error estimate (2 evaluations)
+    bogacki_shampine,  ///< RK3(2) of Bogacki & Shampine (1989), 3rd order, FSAL (3 evaluations)
+  };
+  Scheme scheme = Scheme::heun_euler;
+  double tolerance = 1.0e-3;     ///< relative local error per sub-step, in (0, 0.1]
+  int fixed_substeps = 0;        ///< > 0: no error control, this many equal sub-steps (studies)
+  int max_substeps = 200000;     ///< more accepted plus rejected sub-steps is a failure
+  double min_substep = 1.0e-6;   ///< smallest sub-step as a fraction of the increment
+  double min_mean_stress = 1.0;  ///< p_min [Pa]: the mean stress floor, > 0
+
+  void validate() const;
+};
+
+/// Parses "heun-euler" or "bogacki-shampine".
+IntegratorSettings::Scheme parse_integrator_scheme(std::string_view text, std::string_view key);
+std::string_view to_string(IntegratorSettings::Scheme scheme);
+
+/// What integrate_embedded_runge_kutta needs of a model's rate equations for one increment.
+///   Point: the integrated variables (the same type holds their rates), with
+///     void assign_step(const Point& y, double h, const Point& k);   // this = y + h k
+///     void add(double h, const Point& k);                           // this += h k
+///     void assign_scaled_difference(double s, const Point& a, const Point& b);  // s (a - b)
+///     void assign_combination(double h, double w1, const Point& k1, double w2, const Point& k2,
+///                             double w3, const Point& k3, double w4, const Point& k4);
+///                                                 // this = h (w1 k1 + w2 k2 + w3 k3 + w4 k4)
+///     bool operator==(const Point&) const;
+///   Hint: what a rate evaluation leaves for restore_bounds (an empty struct if nothing).
+///   Hint rate(const Point& y, Point& k) const;           // k = dy/dt at y
+///   bool admissible(const Point& y) const;               // y inside the model's domain
+///   double error_norm(const Point& error, const Point& y) const;  // relative size of error
+///   void restore_bounds(Point& y, UpdateResult&, const Hint* nearby) const;
+///   void set_to_edge(Point& y) const;                    // onto the edge of the domain
+///   void advance_on_edge(Point& y, double dt, const Point& k) const;  // other variables move
+template <class Problem>
+concept RungeKuttaProblem = requires(const Problem& problem, typename Problem::Point& y,
+                                     const typename Problem::Point& c, UpdateResult& result,
+                                     const typename Problem::Hint* hint, double h) {
+  { problem.rate(c, y) } -> std::same_as<typename Problem::Hint>;
+  { problem.admissible(c) } -> std::same_as<bool>;
+  { problem.error_norm(c, c) } -> std::same_as<double>;
+  problem.restore_bounds(y, result, hint);
+  problem.set_to_edge(y);
+  problem.advance_on_edge(y, h, c);
+  y.assign_step(c, h, c);
+  y.add(h, c);
+  y.assign_scaled_difference(h, c, c);
+  y.assign_combination(h, h, c, h, c, h, c, h, c);
+  { c == c } -> std::same_as<bool>;
+};
+
+/// Integrates the problem's rates from y over t in [0, 1] with the settings' scheme; y becomes
+/// the end point. On failure (UpdateResult::ok false) y is left wherever the integration stopped:
+/// the caller keeps its own copy of the start.
+template <RungeKuttaProblem Problem>
+UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Problem::Point& y,
+                                            const IntegratorSettings& settings) {
+  using Point = typename Problem::Point;
+  using Hint = typename Problem::Hint;
+  UpdateResult result;
+  if (!problem.admissible(y)) {  // starts outside the domain: onto its edge
+    problem.set_to_edge(y);
+    ++result.mean_stress_floor_hits;
+  }
+  const bool adaptive = settings.fixed_substeps == 0;
+  const bool heun = settings.scheme == IntegratorSettings::Scheme::heun_euler;
+  // (tolerance / error)^(1 / (order of the error estimate + 1)), without pow() (it ran once a
+  // step for every particle of an MPM run).
+  auto step_factor = [heun](double ratio) { return heun ? std::sqrt(ratio) : std::cbrt(ratio); };
+
+  double t = 0.0;
+  double h = adaptive ? 1.0 : 1.0 / settings.fixed_substeps;
+  Point k1, k2, k3, k4, trial, low;
+  Hint nearby{};  // at the last evaluation, close to the point accepted next
+  bool k1_valid = false;
+  int attempts = 0;
+  while (t < 1.0) {
+    if (++attempts > settings.max_substeps) {
+      result.ok = false;
+      result.message = "Runge-Kutta integrator: too many sub-steps";
+      return result;
+    }
+    h = std::min(h, 1.0 - t);
+    if (!k1_valid) problem.rate(y, k1);
+    double error = 0.0;
+    bool inside = true;
+    if (heun) {
+      // Modified Euler: y1 = y + h k1 (1st order), y2 = y + h/2 (k1 + k2) (2nd order).
+      trial.assign_step(y, h, k1);
+      inside = problem.admissible(trial);
+      if (inside) {
+        nearby = problem.rate(trial, k2);
+        trial.assign_step(y, 0.5 * h, k1);
+        trial.add(0.5 * h, k2);
+        inside = problem.admissible(trial);
+        if (inside && adaptive) {
+          low.assign_scaled_difference(0.5 * h, k2, k1);
+          error = problem.error_norm(low, trial);
+        }
+      }
+    } else {
+      // Bogacki & Shampine (1989) RK3(2): c = (0, 1/2, 3/4, 1), FSAL.
+      trial.assign_step(y, 0.5 * h, k1);
+      inside = problem.admissible(trial);
+      if (inside) {
+        problem.rate(trial, k2);
+        trial.assign_step(y, 0.75 * h, k2);
+        inside = problem.admissible(trial);
+      }
+      if (inside) {
+        problem.rate(trial, k3);
+        trial.assign_step(y, 2.0 / 9.0 * h, k1);
+        trial.add(1.0 / 3.0 * h, k2);
+        trial.add(4.0 / 9.0 * h, k3);
+        inside = problem.admissible(trial);
+        if (inside) nearby = problem.rate(trial, k4);
+        if (inside && adaptive) {
+          // y3 - y2 with the 2nd-order weights (7/24, 1/4, 1/3, 1/8).
+          const double w1 = 2.0 / 9.0 - 7.0 / 24.0, w2 = 1.0 / 3.0 - 0.25,
+                       w3 = 4.0 / 9.0 - 1.0 / 3.0, w4 = -0.125;
+          low.assign_combination(h, w1, k1, w2, k2, w3, k3, w4, k4);
+          error = problem.error_norm(low, trial);
+        }
+      }
+    }
+
+    if (!inside) {
+      if (h > settings.min_substep) {  // approach the edge of the domain with smaller steps
+        h *= 0.25;
+        ++result.rejected_substeps;
+        k1_valid = true;
+        continue;
+      }
+      // The edge is reached within min_substep: the point goes onto it.
+      problem.set_to_edge(y);
+      ++result.mean_stress_floor_hits;
+      t += h;
+      problem.restore_bounds(y, result, nullptr);
+      k1_valid = false;
+      // Does the rest of the increment keep leading out? Then the point stays on the edge.
+      problem.rate(y, k1);
+      trial.assign_step(y, 1.0 - t, k1);
+      if (!problem.admissible(trial)) {
+        problem.advance_on_edge(y, 1.0 - t, k1);
+        problem.restore_bounds(y, result, nullptr);
+        t = 1.0;
+        break;
+      }
+      k1_valid = true;
+      h = 1.0 - t;
+      continue;
+    }
+
+    if (adaptive && error > settings.tolerance) {
+      h *= std::max(0.1, 0.9 * step_factor(settings.tolerance / error));
+      ++result.rejected_substeps;
+      k1_valid = true;
+      if (h < settings.min_substep) {
+        result.ok = false;
+        result.message = "Runge-Kutta integrator: sub-step below min_substep at the tolerance";
+        return result;
+      }
+      continue;
+    }
+    // Accept.
+    y = trial;
+    problem.restore_bounds(y, result, &nearby);
+    t += h;
+    ++result.substeps;
+    // FSAL: k4 is the rate at the accepted point unless the bounds moved it.
+    if (!heun && y == trial) {
+      k1 = k4;
+      k1_valid = true;
+    } else {
+      k1_valid = false;
+    }
+    if (adaptive) {
+      const double growth = error > 0.0 ? 0.9 * step_factor(settings.tolerance / error) : 4.0;
+      h *= std::clamp(growth, 0.2, 4.0);
+    }
+  }
+  return result;
+}
+
+}  // namespace pilempm

@@ -1,0 +1,31 @@
+#pragma once
+// A small axisymmetric pile-jacking problem for the quasi-static analysis: its verification
+// (tests/mpm) and its benchmark (bench/bench_quasi_static.cpp). A rigid pile of diameter D with a
+// 60° conical tip stands with its tip on the surface of a sand cylinder (radius `width_in_d` D,
+// height `height_in_d` D) at N g, from a K0 stress state; cells of D / `cells_per_d` (uniform),
+// 2 x 2 particles per cell, rollers on the outer side and the axis, fixed base.
+#include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
+
+namespace pilempm::mpm::quasi_static {
+
+struct PileProblem {
+  double diameter = 0.02;    ///< D [m]
+  double width_in_d = 5.0;   ///< radius of the sand / D
+  double height_in_d = 8.0;  ///< height of the sand / D
+  int cells_per_d = 4;       ///< cells across D
+  double gravity_multiplier = 50.0;
+  double density = 1600.0;      ///< [kg/m^3]
+  double earth_pressure = 0.5;  ///< K0
+  double void_ratio = 0.7;
+  double friction = 0.3;  ///< pile-sand μ
+  ModelPtr model;         ///< the sand
+  Settings settings;      ///< geometry is set to axisymmetric
+
+  /// The solver with the pile (body 0) and the sand in its K0 state (gravity multiplier N
+  /// already reached: the first load step is the geostatic equilibrium).
+  QuasiStaticSolver build() const;
+  /// The initial height of the sand's surface [m].
+  double surface() const { return height_in_d * diameter; }
+};
+
+}  // namespace pilempm::mpm::quasi_static

@@ -1,0 +1,743 @@
+#include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
+
+#include <fmt/format.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/core/error.hpp"
+#include "pilempm/mpm/in_plane_rotation.hpp"
+
+namespace pilempm::mpm::quasi_static {
+
+namespace {
+
+// The Mandel components an in-plane problem uses, in the order of the 4-row B matrices.
+constexpr int kComponents[4] = {k11, k22, k33, k12};
+constexpr int kCorners = 4;
+using Mat4 = Eigen::Matrix4d;
+using Vec4 = Eigen::Vector4d;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The weights of a particle's stencil as a flat list of nodes (row-major over the stencil).
+struct ParticleNodes {
+  int count = 0;
+  int node[AxisWeights::kMaxNodes * AxisWeights::kMaxNodes];
+  double weight[AxisWeights::kMaxNodes * AxisWeights::kMaxNodes];
+  Vec2 gradient[AxisWeights::kMaxNodes * AxisWeights::kMaxNodes];
+};
+
+void flatten(const Stencil& stencil, int nx, ParticleNodes& out) {
+  out.count = 0;
+  for (int b = 0; b < stencil.y.count; ++b)
+    for (int a = 0; a < stencil.x.count; ++a) {
+      const int k = out.count++;
+      out.node[k] = (stencil.y.first + b) * nx + stencil.x.first + a;
+      out.weight[k] = stencil.x.weight[a] * stencil.y.weight[b];
+      out.gradient[k] = Vec2(stencil.x.gradient[a] * stencil.y.weight[b],
+                             stencil.x.weight[a] * stencil.y.gradient[b]);
+    }
+}
+
+// Length of node i's share of an axis (half of each adjacent cell) as the interval [lo, hi].
+void node_share(const GridAxis& axis, int i, double& lo, double& hi) {
+  lo = i > 0 ? 0.5 * (axis.node(i - 1) + axis.node(i)) : axis.node(i);
+  hi = i + 1 < axis.node_count() ? 0.5 * (axis.node(i) + axis.node(i + 1)) : axis.node(i);
+}
+
+}  // namespace
+
+void Settings::validate() const {
+  auto positive = [](double value, const char* key) {
+    if (!(value > 0.0) || !std::isfinite(value))
+      throw InvalidValue(key, format_value(value), "> 0");
+  };
+  if (!(gravity >= 0.0) || !std::isfinite(gravity))
+    throw InvalidValue("gravity", format_value(gravity), ">= 0");
+  positive(force_tolerance, "force_tolerance");
+  positive(energy_tolerance, "energy_tolerance");
+  positive(perturbation, "perturbation");
+  if (max_iterations < 1)
+    throw InvalidValue("max_iterations", std::to_string(max_iterations), ">= 1");
+  if (line_search_steps < 0)
+    throw InvalidValue("line_search_steps", std::to_string(line_search_steps), ">= 0");
+  if (max_cuts < 0) throw InvalidValue("max_cuts", std::to_string(max_cuts), ">= 0");
+  if (easy_iterations < 0)
+    throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
+  if (!(support_threshold >= 0.0 && support_threshold < 1.0))
+    throw InvalidValue("support_threshold", format_value(support_threshold), "in [0, 1)");
+  if (!(ghost_stiffness >= 0.0) || !std::isfinite(ghost_stiffness))
+    throw InvalidValue("ghost_stiffness", format_value(ghost_stiffness), ">= 0");
+  if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0");
+  if (linear_solver == LinearSolverKind::umfpack && !umfpack_available())
+    throw InvalidValue("linear_solver", "umfpack", "sparse-lu (this build has no UMFPACK)");
+  contact.validate();
+}
+
+// What the iterations of one sub-increment share: the reference configuration's stencils and
+// the unknowns.
+struct QuasiStaticSolver::StepSetup {
+  std::vector<ParticleNodes> nodes;  // per particle
+  std::vector<int> dof;              // per node component (2 per node): unknown index or -1
+  std::vector<char> active;          // per node
+  int unknowns = 0;
+  std::vector<char> near_body;  // per particle: whether its corners are checked for contact
+  struct GhostSpring {
+    int node_a, node_b;
+    double stiffness;
+  };
+  std::vector<GhostSpring> ghosts;
+};
+
+// The results of evaluating one iterate.
+struct QuasiStaticSolver::Trial {
+  std::vector<MaterialState> state;
+  std::vector<Vec6> strain_increment;
+  std::vector<Mat2> gradient;  // G = Σ Δu_i ⊗ ∇S_i
+  std::vector<double> hoop;
+  std::vector<Mat4> tangent;
+  std::vector<Vec2> node_displacement;              // per node
+  std::vector<double> internal, external, contact;  // per node component
+  std::vector<PointContact> corner;                 // per particle corner
+  std::vector<int> corner_body, corner_part;        // per particle corner
+  std::vector<double> corner_gap;                   // per particle corner
+  Eigen::VectorXd residual;                         // per unknown
+  std::vector<Eigen::Triplet<double>> triplets;
+  double reference_force = 0.0;
+};
+
+QuasiStaticSolver::QuasiStaticSolver(Grid grid, Particles particles,
+                                     std::vector<ModelPtr> materials, Settings settings)
+    : grid_(std::move(grid)),
+      particles_(std::move(particles)),
+      materials_(std::move(materials)),
+      settings_(settings) {
+  settings_.validate();
+  linear_solver_.set_kind(settings_.linear_solver);
+  threads_ = settings_.threads > 0 ? settings_.threads : omp_get_max_threads();
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  if (axisymmetric && grid_.x_axis().start() < 0.0)
+    throw InvalidValue("grid x start", format_value(grid_.x_axis().start()), ">= 0 in axisymmetry");
+  if (axisymmetric && grid_.x_axis().start() == 0.0) grid_.set_axis_of_symmetry(true);
+  for (std::size_t p = 0; p < particles_.size(); ++p) {
+    const auto what = [&](const char* field) { return fmt::format("particle {} {}", p, field); };
+    const int material = particles_.material[p];
+    if (material < 0 || material >= static_cast<int>(materials_.size()) ||
+        !materials_[std::size_t(material)])
+      throw InvalidValue(what("material"), std::to_string(material),
+                         fmt::format("a model index in [0, {})", materials_.size()));
+    if (!(particles_.volume[p] > 0.0))
+      throw InvalidValue(what("volume"), format_value(particles_.volume[p]), "> 0");
+    const Vec2& x = particles_.position[p];
+    if (!grid_.contains(x.x(), x.y()))
+      throw InvalidValue(what("position"), fmt::format("({}, {})", x.x(), x.y()),
+                         "inside the grid");
+    if (axisymmetric && !(x.x() > 0.0))
+      throw InvalidValue(what("radius"), format_value(x.x()), "> 0 in axisymmetry");
+  }
+  contact_history_.assign(particles_.size() * kCorners, ContactHistory{});
+  corner_position_.resize(particles_.size() * kCorners);
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const Vec2& l = particles_.half_size[i];
+    for (int q = 0; q < kCorners; ++q)
+      corner_position_[i * kCorners + std::size_t(q)] =
+          particles_.position[i] + Vec2((q & 1) ? l.x() : -l.x(), (q & 2) ? l.y() : -l.y());
+  }
+  node_displacement_.assign(std::size_t(grid_.node_count()), Vec2::Zero());
+}
+
+int QuasiStaticSolver::add_rigid_body(RigidBody body) {
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  if (body.axisymmetric() != axisymmetric)
+    throw InvalidValue("rigid body", body.axisymmetric() ? "pile" : "polygon",
+                       axisymmetric ? "a pile in axisymmetry" : "a polygon in plane strain");
+  BodyForce force;
+  force.parts.assign(std::size_t(body.part_count()), Vec2::Zero());
+  bodies_.push_back(std::move(body));
+  body_forces_.push_back(std::move(force));
+  return rigid_body_count() - 1;
+}
+
+void QuasiStaticSolver::set_material(int index, ModelPtr model) {
+  if (index < 0 || index >= static_cast<int>(materials_.size()) || !model)
+    throw InvalidValue("material index", std::to_string(index),
+                       fmt::format("[0, {}) and a model", materials_.size()));
+  materials_[std::size_t(index)] = std::move(model);
+}
+
+void QuasiStaticSolver::build_setup(StepSetup& setup) const {
+  const Particles& p = particles_;
+  const std::size_t count = p.size();
+  const int nx = grid_.nx(), nodes = grid_.node_count();
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  setup.nodes.resize(count);
+  std::vector<double> support(std::size_t(nodes), 0.0);
+  for (std::size_t i = 0; i < count; ++i) {
+    Stencil stencil;
+    compute_stencil(grid_, settings_.shape_function, p.position[i].x(), p.position[i].y(),
+                    p.half_size[i].x(), p.half_size[i].y(), stencil);
+    flatten(stencil, nx, setup.nodes[i]);
+    const ParticleNodes& pn = setup.nodes[i];
+    for (int k = 0; k < pn.count; ++k)
+      support[std::size_t(pn.node[k])] += pn.weight[k] * p.volume[i];
+  }
+  // Every node a particle reaches carries the unknowns of its free components; the weakly
+  // supported ones get ghost springs to their better supported neighbours.
+  std::vector<double> modulus(std::size_t(nodes), 0.0);
+  for (std::size_t i = 0; i < count; ++i) {
+    const double m = materials_[std::size_t(p.material[i])]->wave_modulus(p.state[i]);
+    const ParticleNodes& pn = setup.nodes[i];
+    for (int k = 0; k < pn.count; ++k)
+      if (pn.weight[k] > 0.0)
+        modulus[std::size_t(pn.node[k])] = std::max(modulus[std::size_t(pn.node[k])], m);
+  }
+  setup.active.assign(std::size_t(nodes), 0);
+  setup.dof.assign(2 * std::size_t(nodes), -1);
+  setup.unknowns = 0;
+  setup.ghosts.clear();
+  std::vector<double> weakness(std::size_t(nodes), 0.0);  // 1 - s_i / (threshold v_i), or 0
+  const auto& free_x = grid_.free_x();
+  const auto& free_y = grid_.free_y();
+  for (int j = 0; j < grid_.ny(); ++j)
+    for (int i = 0; i < nx; ++i) {
+      const int n = grid_.node_index(i, j);
+      if (!(support[std::size_t(n)] > 0.0)) continue;
+      double x0, x1, y0, y1;
+      node_share(grid_.x_axis(), i, x0, x1);
+      node_share(grid_.y_axis(), j, y0, y1);
+      const double own = (y1 - y0) * (axisymmetric ? 0.5 * (x1 * x1 - x0 * x0) : (x1 - x0));
+      const double limit = settings_.support_threshold * own;
+      if (support[std::size_t(n)] < limit)
+        weakness[std::size_t(n)] = 1.0 - support[std::size_t(n)] / limit;
+      setup.active[std::size_t(n)] = 1;
+      if (free_x[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n)] = setup.unknowns++;
+      if (free_y[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n) + 1] = setup.unknowns++;
+    }
+  if (settings_.ghost_stiffness > 0.0)
+    for (int j = 0; j < grid_.ny(); ++j)
+      for (int i = 0; i < nx; ++i) {
+        const int n = grid_.node_index(i, j);
+        if (!(weakness[std::size_t(n)] > 0.0)) continue;
+        const double scale =
+            axisymmetric ? std::max(grid_.x_axis().node(i), 0.5 * grid_.x_axis().spacing(0)) : 1.0;
+        const double k =
+            settings_.ghost_stiffness * modulus[std::size_t(n)] * weakness[std::size_t(n)] * scale;
+        const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
+        for (const auto& ij : neighbours) {
+          if (ij[0] < 0 || ij[0] >= nx || ij[1] < 0 || ij[1] >= grid_.ny()) continue;
+          const int m = grid_.node_index(ij[0], ij[1]);
+          if (!setup.active[std::size_t(m)] || weakness[std::size_t(m)] >= weakness[std::size_t(n)])
+            continue;
+          setup.ghosts.push_back({n, m, k});
+        }
+      }
+  setup.near_body.assign(count, 0);
+  if (!bodies_.empty())
+    for (std::size_t i = 0; i < count; ++i) {
+      const double reach = p.half_size[i].norm() + 2.0 * grid_.min_spacing();
+      for (const RigidBody& body : bodies_)
+        if (body.signed_distance(p.position[i]) < reach) setup.near_body[i] = 1;
+    }
+}
+
+bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<double>& du,
+                                 double gravity, double traction,
+                                 const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
+                                 LoadStepResult& result) const {
+  const Particles& p = particles_;
+  const long count = static_cast<long>(p.size());
+  const int nodes = grid_.node_count();
+  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
+  const bool first_matrix =
+      tangent && std::all_of(du.begin(), du.end(), [](double v) { return v == 0.0; });
+  const auto material_start = std::chrono::steady_clock::now();
+
+  trial.node_displacement.assign(std::size_t(nodes), Vec2::Zero());
+  for (int n = 0; n < nodes; ++n)
+    for (int c = 0; c < 2; ++c) {
+      const int d = setup.dof[2 * std::size_t(n) + std::size_t(c)];
+      if (d >= 0) trial.node_displacement[std::size_t(n)][c] = du[std::size_t(d)];
+    }
+  trial.state.resize(std::size_t(count));
+  trial.strain_increment.resize(std::size_t(count));
+  trial.gradient.resize(std::size_t(count));
+  trial.hoop.resize(std::size_t(count));
+  if (tangent) trial.tangent.resize(std::size_t(count));
+
+  // Kinematics, the stress from the converged state and the tangent, particle by particle.
+  bool failed = false;
+  const TangentKind kind = settings_.tangent;
+  // The strain components that vary (rows of B): plane strain has no 33.
+  const int used_columns = axisymmetric ? 4 : 3;
+  const int used_column[4] = {0, 1, axisymmetric ? 2 : 3, 3};
+#pragma omp parallel for schedule(static) num_threads(threads_) reduction(|| : failed)
+  for (long i = 0; i < count; ++i) {
+    const ParticleNodes& pn = setup.nodes[std::size_t(i)];
+    Mat2 gradient = Mat2::Zero();
+    double radial = 0.0;
+    for (int k = 0; k < pn.count; ++k) {
+      const Vec2& u = trial.node_displacement[std::size_t(pn.node[k])];
+      gradient += u * pn.gradient[k].transpose();
+      radial += pn.weight[k] * u.x();
+    }
+    const double hoop = axisymmetric ? radial / p.position[std::size_t(i)].x() : 0.0;
+    Vec6 strain;
+    strain << gradient(0, 0), gradient(1, 1), hoop, 0.0, 0.0,
+        kSqrt2 * 0.5 * (gradient(0, 1) + gradient(1, 0));
+    trial.gradient[std::size_t(i)] = gradient;
+    trial.hoop[std::size_t(i)] = hoop;
+    trial.strain_increment[std::size_t(i)] = strain;
+    // Hughes-Winget: rotate the converged state by the spin, then integrate the increment.
+    MaterialState rotated = p.state[std::size_t(i)];
+    const double spin = 0.5 * (gradient(1, 0) - gradient(0, 1));
+    const ConstitutiveModel& model = *materials_[std::size_t(p.material[std::size_t(i)])];
+    if (spin != 0.0) rotate_state_about_z(rotated, spin, model.history_variables());
+    MaterialState& state = trial.state[std::size_t(i)];
+    state = rotated;
+    if (!model.update(state, strain).ok) {
+      failed = true;
+      continue;
+    }
+    if (!tangent) continue;
+    Mat4& d = trial.tangent[std::size_t(i)];
+    d.setZero();
+    const bool analytic =
+        kind == TangentKind::elastic ||
+        (kind == TangentKind::automatic && dynamic_cast<const LinearElastic*>(&model) != nullptr);
+    if (analytic) {
+      const Mat6 full = model.tangent(state, strain);
+      for (int r = 0; r < 4; ++r)
+        for (int c = 0; c < 4; ++c) d(r, c) = full(kComponents[r], kComponents[c]);
+      continue;
+    }
+    // Fellin & Ostermann (2002): forward differences of the integrated update.
+    const double h = settings_.perturbation * std::max(strain.norm(), 1.0e-6);
+    for (int c = 0; c < used_columns; ++c) {
+      const int dc = used_column[c];
+      Vec6 perturbed = strain;
+      perturbed[kComponents[dc]] += h;
+      MaterialState probe = rotated;
+      if (!model.update(probe, perturbed).ok) {
+        failed = true;
+        break;
+      }
+      const Vec6 difference = (probe.stress - state.stress) / h;
+      for (int r = 0; r < 4; ++r) d(r, dc) = difference[kComponents[r]];
+    }
+  }
+  result.seconds_material += seconds_since(material_start);
+  if (failed) return false;
+
+  // Assembly: internal and external forces, the material stiffness.
+  const auto assembly_start = std::chrono::steady_clock::now();
+  trial.internal.assign(2 * std::size_t(nodes), 0.0);
+  trial.external.assign(2 * std::size_t(nodes), 0.0);
+  trial.contact.assign(2 * std::size_t(nodes), 0.0);
+  if (tangent) trial.triplets.clear();
+  const double body_force = -gravity * settings_.gravity;
+  Eigen::Matrix<double, 4, 2 * 16> b;
+  for (long i = 0; i < count; ++i) {
+    const ParticleNodes& pn = setup.nodes[std::size_t(i)];
+    const double volume = p.volume[std::size_t(i)];
+    const Vec6& s = trial.state[std::size_t(i)].stress;
+    const double radius = p.position[std::size_t(i)].x();
+    const Vec2 load = traction * p.external_force[std::size_t(i)] +
+                      Vec2(0.0, p.mass[std::size_t(i)] * body_force);
+    b.setZero();
+    for (int k = 0; k < pn.count; ++k) {
+      const Vec2& g = pn.gradient[k];
+      b(0, 2 * k) = g.x();
+      b(1, 2 * k + 1) = g.y();
+      if (axisymmetric) b(2, 2 * k) = pn.weight[k] / radius;
+      b(3, 2 * k) = g.y() / kSqrt2;
+      b(3, 2 * k + 1) = g.x() / kSqrt2;
+    }
+    const Vec4 stress4(s[k11], s[k22], s[k33], s[k12]);
+    for (int k = 0; k < pn.count; ++k) {
+      const std::size_t n = std::size_t(pn.node[k]);
+      trial.internal[2 * n] += volume * b.col(2 * k).dot(stress4);
+      trial.internal[2 * n + 1] += volume * b.col(2 * k + 1).dot(stress4);
+      trial.external[2 * n] += pn.weight[k] * load.x();
+      trial.external[2 * n + 1] += pn.weight[k] * load.y();
+    }
+    if (!tangent) continue;
+    const int columns = 2 * pn.count;
+    const Eigen::Matrix<double, 4, Eigen::Dynamic> db =
+        volume * trial.tangent[std::size_t(i)] * b.leftCols(columns);
+    for (int c = 0; c < columns; ++c) {
+      const int col = setup.dof[2 * std::size_t(pn.node[c / 2]) + std::size_t(c % 2)];
+      if (col < 0) continue;
+      for (int r = 0; r < columns; ++r) {
+        const int row = setup.dof[2 * std::size_t(pn.node[r / 2]) + std::size_t(r % 2)];
+        if (row < 0) continue;
+        trial.triplets.emplace_back(row, col, b.col(r).dot(db.col(c)));
+      }
+    }
+  }
+
+  // Contact at the corners of the particles' domains against the bodies' exact surfaces.
+  trial.corner.assign(std::size_t(count) * kCorners, PointContact{});
+  trial.corner_body.assign(std::size_t(count) * kCorners, -1);
+  trial.corner_part.assign(std::size_t(count) * kCorners, 0);
+  trial.corner_gap.assign(std::size_t(count) * kCorners, 0.0);
+  for (long i = 0; i < count && !bodies_.empty(); ++i) {
+    if (!setup.near_body[std::size_t(i)]) continue;
+    const ParticleNodes& pn = setup.nodes[std::size_t(i)];
+    const Vec2& x = p.position[std::size_t(i)];
+    const Vec2& l = p.half_size[std::size_t(i)];
+    const ConstitutiveModel& model = *materials_[std::size_t(p.material[std::size_t(i)])];
+    const double modulus = model.wave_modulus(p.state[std::size_t(i)]);
+    const double size = 2.0 * std::min(l.x(), l.y());
+    for (int q = 0; q < kCorners; ++q) {
+      // The corners are contact points that move with the particle's affine motion (material
+      // points of their own, so that a converged gap carries over to the next step unchanged):
+      // Δu_q = Σ_k c_k Δu_k, c_k = S_k + ∇S_k · (x_q - x_p).
+      const Vec2 corner = corner_position_[std::size_t(i) * kCorners + std::size_t(q)];
+      const Vec2 offset = corner - x;
+      double coefficient[16];
+      Vec2 moved = Vec2::Zero();
+      for (int k = 0; k < pn.count; ++k) {
+        coefficient[k] = pn.weight[k] + pn.gradient[k].dot(offset);
+        moved += coefficient[k] * trial.node_displacement[std::size_t(pn.node[k])];
+      }
+      const double area = (l.x() + l.y()) * (axisymmetric ? std::abs(corner.x()) : 1.0);
+      const double normal_stiffness = settings_.contact.penalty_factor * modulus * area / size;
+      // Points this close outside keep the stick stiffness in the matrix (see penalty_contact).
+      // Only in the first matrix of an increment: later on it would be a spring without force.
+      const double margin = first_matrix ? settings_.contact.stiffness_margin * size : 0.0;
+      const std::size_t index = std::size_t(i) * kCorners + std::size_t(q);
+      (void)l;
+      for (std::size_t body = 0; body < bodies_.size(); ++body) {
+        const Vec2 body_move = body < body_step.size() ? body_step[body] : Vec2::Zero();
+        const SurfaceQuery hit = bodies_[body].query(corner + moved - body_move);
+        if (!(hit.distance < margin)) continue;
+        const ContactHistory& history = contact_history_[index];
+        const Vec2 previous =
+            history.body == static_cast<int>(body) ? history.tangential_force : Vec2::Zero();
+        const PointContact point =
+            penalty_contact(hit.distance, hit.normal, moved - body_move, previous, normal_stiffness,
+                            settings_.contact.tangential_ratio * normal_stiffness,
+                            bodies_[body].friction(), margin);
+        if (point.active) {
+          trial.corner[index] = point;
+          trial.corner_body[index] = static_cast<int>(body);
+          trial.corner_part[index] = hit.part;
+          trial.corner_gap[index] = hit.distance;
+          for (int k = 0; k < pn.count; ++k) {
+            const std::size_t n = std::size_t(pn.node[k]);
+            trial.contact[2 * n] += coefficient[k] * point.force.x();
+            trial.contact[2 * n + 1] += coefficient[k] * point.force.y();
+          }
+        }
+        if (tangent)
+          for (int a = 0; a < pn.count; ++a)
+            for (int c = 0; c < pn.count; ++c) {
+              const Mat2 block = coefficient[a] * coefficient[c] * point.stiffness;
+              for (int r = 0; r < 2; ++r)
+                for (int s = 0; s < 2; ++s) {
+                  const int row = setup.dof[2 * std::size_t(pn.node[a]) + std::size_t(r)];
+                  const int col = setup.dof[2 * std::size_t(pn.node[c]) + std::size_t(s)];
+                  if (row >= 0 && col >= 0) trial.triplets.emplace_back(row, col, block(r, s));
+                }
+            }
+        break;  // one body per corner
+      }
+    }
+  }
+
+  // Ghost springs between weakly supported nodes and their neighbours (internal forces).
+  for (const StepSetup::GhostSpring& ghost : setup.ghosts) {
+    const Vec2 stretch = trial.node_displacement[std::size_t(ghost.node_a)] -
+                         trial.node_displacement[std::size_t(ghost.node_b)];
+    for (int c = 0; c < 2; ++c) {
+      const std::size_t ca = 2 * std::size_t(ghost.node_a) + std::size_t(c);
+      const std::size_t cb = 2 * std::size_t(ghost.node_b) + std::size_t(c);
+      trial.internal[ca] += ghost.stiffness * stretch[c];
+      trial.internal[cb] -= ghost.stiffness * stretch[c];
+      if (!tangent) continue;
+      const int da = setup.dof[ca], db = setup.dof[cb];
+      if (da >= 0) trial.triplets.emplace_back(da, da, ghost.stiffness);
+      if (db >= 0) trial.triplets.emplace_back(db, db, ghost.stiffness);
+      if (da >= 0 && db >= 0) {
+        trial.triplets.emplace_back(da, db, -ghost.stiffness);
+        trial.triplets.emplace_back(db, da, -ghost.stiffness);
+      }
+    }
+  }
+  trial.residual.setZero(setup.unknowns);
+  double internal_norm = 0.0, external_norm = 0.0, contact_norm = 0.0;
+  for (std::size_t c = 0; c < 2 * std::size_t(nodes); ++c) {
+    if (!setup.active[c / 2]) continue;
+    internal_norm += trial.internal[c] * trial.internal[c];
+    external_norm += trial.external[c] * trial.external[c];
+    contact_norm += trial.contact[c] * trial.contact[c];
+    const int d = setup.dof[c];
+    if (d >= 0) trial.residual[d] = trial.internal[c] - trial.external[c] - trial.contact[c];
+  }
+  trial.reference_force = std::sqrt(std::max({internal_norm, external_norm, contact_norm}));
+  result.seconds_assembly += seconds_since(assembly_start);
+  return trial.residual.allFinite();
+}
+
+bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& load,
+                                            SubIncrementRecord& record, LoadStepResult& result) {
+  // The sub-increment's targets, linear in the fraction of the step from the current state.
+  const double gravity =
+      gravity_multiplier_ + fraction * (load.gravity_multiplier - gravity_multiplier_);
+  const double traction =
+      traction_multiplier_ + fraction * (load.traction_multiplier - traction_multiplier_);
+  std::vector<Vec2> body_step(bodies_.size(), Vec2::Zero());
+  for (std::size_t b = 0; b < bodies_.size() && b < load.body_displacement.size(); ++b)
+    body_step[b] = fraction * load.body_displacement[b];
+
+  StepSetup setup;
+  build_setup(setup);
+  result.unknowns = setup.unknowns;
+  std::vector<double> du(std::size_t(setup.unknowns), 0.0);
+  Trial trial;
+  if (!evaluate(setup, du, gravity, traction, body_step, true, trial, result)) {
+    result.message = "a stress update failed at the start of the increment";
+    return false;
+  }
+  // Predictor: the last increment's nodal displacements scaled to this one's body motion, kept
+  // when it lowers the residual (a pile pushed on deforms the soil much as in the last step).
+  double body_motion = 0.0;
+  for (const Vec2& d : body_step) body_motion = std::max(body_motion, d.norm());
+  if (settings_.predictor && body_motion > 0.0 && last_body_step_ > 0.0) {
+    const double scale = body_motion / last_body_step_;
+    std::vector<double> predicted(std::size_t(setup.unknowns), 0.0);
+    for (std::size_t c = 0; c < setup.dof.size(); ++c)
+      if (setup.dof[c] >= 0)
+        predicted[std::size_t(setup.dof[c])] = scale * node_displacement_[c / 2][int(c % 2)];
+    Trial predicted_trial;
+    if (evaluate(setup, predicted, gravity, traction, body_step, true, predicted_trial, result) &&
+        predicted_trial.residual.norm() < trial.residual.norm()) {
+      du.swap(predicted);
+      trial = std::move(predicted_trial);
+    }
+  }
+  record.initial_residual = trial.residual.norm();
+  record.reference_force = trial.reference_force;
+  const double tolerance = settings_.force_tolerance;
+  auto force_converged = [&](const Trial& t) {
+    return t.residual.norm() <= tolerance * std::max(t.reference_force, 1.0e-300);
+  };
+  if (setup.unknowns == 0 || force_converged(trial)) {
+    record.converged = true;
+    commit(setup, du, trial, gravity, traction, body_step);
+    return true;
+  }
+
+  SparseMatrix matrix(setup.unknowns, setup.unknowns);
+  double first_energy = 0.0;
+  for (int iteration = 1; iteration <= settings_.max_iterations; ++iteration) {
+    ++result.iterations;
+    const auto factor_start = std::chrono::steady_clock::now();
+    matrix.setFromTriplets(trial.triplets.begin(), trial.triplets.end());
+    if (!linear_solver_.factorize(matrix, iteration == 1)) {
+      result.seconds_factorisation += seconds_since(factor_start);
+      result.message = "the Newton matrix is singular";
+      last_matrix_ = matrix;
+      return false;
+    }
+    const Eigen::VectorXd step = linear_solver_.solve(-trial.residual);
+    result.seconds_factorisation += seconds_since(factor_start);
+    if (!step.allFinite()) {
+      result.message = "the Newton step is not finite";
+      return false;
+    }
+    if (iteration == 1) last_matrix_ = matrix;
+    // Line search: halve the step while the residual norm does not fall.
+    const double before = trial.residual.norm();
+    const double energy_before = std::abs(step.dot(trial.residual));
+    double length = 1.0;
+    Trial next;
+    bool ok = false;
+    for (int attempt = 0; attempt <= settings_.line_search_steps; ++attempt) {
+      std::vector<double> candidate = du;
+      for (int d = 0; d < setup.unknowns; ++d) candidate[std::size_t(d)] += length * step[d];
+      ok = evaluate(setup, candidate, gravity, traction, body_step, true, next, result);
+      if (ok && next.residual.norm() < before) {
+        du.swap(candidate);
+        break;
+      }
+      if (attempt == settings_.line_search_steps) {
+        if (ok) du.swap(candidate);  // take the shortest step anyway
+        break;
+      }
+      length *= 0.5;
+    }
+    if (!ok) {
+      result.message = "a stress update failed in the iterations";
+      return false;
+    }
+    trial = std::move(next);
+    IterationRecord iteration_record;
+    iteration_record.residual_norm = trial.residual.norm();
+    iteration_record.energy_norm = std::abs(length * step.dot(trial.residual));
+    iteration_record.line_search = length;
+    if (iteration == 1) first_energy = energy_before;
+    record.iterations.push_back(iteration_record);
+    const bool energy_converged =
+        iteration_record.energy_norm <= settings_.energy_tolerance * std::max(first_energy, 1e-300);
+    if (force_converged(trial) && energy_converged) {
+      record.converged = true;
+      commit(setup, du, trial, gravity, traction, body_step);
+      return true;
+    }
+    if (iteration_record.residual_norm > 1.0e8 * std::max(record.initial_residual, 1e-300)) {
+      result.message = "the Newton iterations diverge";
+      return false;
+    }
+  }
+  result.message = fmt::format("no convergence in {} iterations", settings_.max_iterations);
+  return false;
+}
+
+void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>& du,
+                               const Trial& trial, double gravity, double traction,
+                               const std::vector<Vec2>& body_step) {
+  (void)du;
+  Particles& p = particles_;
+  const std::size_t count = p.size();
+  const bool stretch_domains = settings_.shape_function == ShapeFunction::cpgimp;
+  // Work over the step (trapezoidal in the stress and the load factor).
+  const double gravity_mean = 0.5 * (gravity + gravity_multiplier_) * settings_.gravity;
+  const double traction_mean = 0.5 * (traction + traction_multiplier_);
+  for (std::size_t i = 0; i < count; ++i) {
+    const ParticleNodes& pn = setup.nodes[i];
+    Vec2 displacement = Vec2::Zero();
+    for (int k = 0; k < pn.count; ++k)
+      displacement += pn.weight[k] * trial.node_displacement[std::size_t(pn.node[k])];
+    work_.internal += 0.5 * p.volume[i] *
+                      (p.state[i].stress + trial.state[i].stress).dot(trial.strain_increment[i]);
+    work_.external += (traction_mean * p.external_force[i] - Vec2(0.0, p.mass[i] * gravity_mean))
+                          .dot(displacement);
+    for (int q = 0; q < kCorners; ++q) {
+      Vec2& corner = corner_position_[i * kCorners + std::size_t(q)];
+      corner += displacement + trial.gradient[i] * (corner - p.position[i]);
+    }
+    p.position[i] += displacement;
+    p.state[i] = trial.state[i];
+    Mat2& deformation = p.deformation_gradient[i];
+    deformation = (Mat2::Identity() + trial.gradient[i]) * deformation;
+    p.out_of_plane_stretch[i] *= 1.0 + trial.hoop[i];
+    p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
+    // cpGIMP: the domain follows the stretch, as in the explicit solver.
+    if (stretch_domains) p.half_size[i] = stretched_half_size(p.initial_half_size[i], deformation);
+    if (!grid_.contains(p.position[i].x(), p.position[i].y()) ||
+        (settings_.geometry == Geometry::axisymmetric && !(p.position[i].x() > 0.0)))
+      throw Error(fmt::format("quasi-static: particle {} left the grid at ({}, {})", i,
+                              p.position[i].x(), p.position[i].y()));
+  }
+  // Contact: forces on the bodies, histories, the largest penetration.
+  std::vector<BodyForce> forces = body_forces_;
+  for (BodyForce& f : forces) {
+    f.total.setZero();
+    for (Vec2& part : f.parts) part.setZero();
+  }
+  max_penetration_ = 0.0;
+  for (std::size_t c = 0; c < trial.corner.size(); ++c) {
+    const PointContact& point = trial.corner[c];
+    ContactHistory& history = contact_history_[c];
+    if (!point.active) {
+      history = ContactHistory{};
+      continue;
+    }
+    const int body = trial.corner_body[c];
+    BodyForce& f = forces[std::size_t(body)];
+    f.total -= point.force;
+    f.parts[std::size_t(trial.corner_part[c])] -= point.force;
+    max_penetration_ = std::max(max_penetration_, -trial.corner_gap[c]);
+    history.body = body;
+    history.tangential_force = point.tangential_vector;
+  }
+  for (std::size_t b = 0; b < bodies_.size(); ++b) {
+    work_.contact += 0.5 * (body_forces_[b].total + forces[b].total).dot(-body_step[b]);
+    bodies_[b].translate(body_step[b]);
+  }
+  body_forces_ = std::move(forces);
+  // The reaction of the constraints on the soil: the residual f_int - f_ext - f_contact at the
+  // constrained components (what the constraint has to add for equilibrium there).
+  boundary_reaction_.setZero();
+  for (std::size_t c = 0; c < trial.internal.size(); ++c)
+    if (setup.active[c / 2] && setup.dof[c] < 0)
+      boundary_reaction_[int(c % 2)] += trial.internal[c] - trial.external[c] - trial.contact[c];
+  node_displacement_ = trial.node_displacement;
+  last_body_step_ = 0.0;
+  for (const Vec2& d : body_step) last_body_step_ = std::max(last_body_step_, d.norm());
+  gravity_multiplier_ = gravity;
+  traction_multiplier_ = traction;
+}
+
+LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
+  LoadStepResult result;
+  if (!load.body_displacement.empty() && load.body_displacement.size() != bodies_.size())
+    throw InvalidValue("load step body displacements",
+                       std::to_string(load.body_displacement.size()),
+                       fmt::format("0 or {} (one per rigid body)", bodies_.size()));
+  // The state at the start of the step, restored if the step fails.
+  const Particles start_particles = particles_;
+  const std::vector<RigidBody> start_bodies = bodies_;
+  const std::vector<BodyForce> start_forces = body_forces_;
+  const std::vector<ContactHistory> start_history = contact_history_;
+  const std::vector<Vec2> start_corners = corner_position_;
+  const std::vector<Vec2> start_node_displacement = node_displacement_;
+  const double start_body_step = last_body_step_;
+  const double start_gravity = gravity_multiplier_, start_traction = traction_multiplier_;
+  const Work start_work = work_;
+  const Vec2 start_reaction = boundary_reaction_;
+  const double start_penetration = max_penetration_;
+
+  double done = 0.0, size = 1.0;
+  LoadStep remaining = load;
+  while (done < 1.0 - 1.0e-12) {
+    size = std::min(size, 1.0 - done);
+    // The sub-increment as a fraction of what remains of the step.
+    const double share = size / (1.0 - done);
+    SubIncrementRecord record;
+    record.fraction = size;
+    LoadStep part = remaining;
+    const bool converged = solve_sub_increment(share, part, record, result);
+    result.sub_increments.push_back(record);
+    if (converged) {
+      for (Vec2& d : remaining.body_displacement) d *= 1.0 - share;
+      done += size;
+      if (int(record.iterations.size()) <= settings_.easy_iterations) size *= 2.0;
+      continue;
+    }
+    if (result.cuts >= settings_.max_cuts) {
+      particles_ = start_particles;
+      bodies_ = start_bodies;
+      body_forces_ = start_forces;
+      contact_history_ = start_history;
+      corner_position_ = start_corners;
+      node_displacement_ = start_node_displacement;
+      last_body_step_ = start_body_step;
+      gravity_multiplier_ = start_gravity;
+      traction_multiplier_ = start_traction;
+      work_ = start_work;
+      boundary_reaction_ = start_reaction;
+      max_penetration_ = start_penetration;
+      result.converged = false;
+      result.message = fmt::format("no convergence after {} cuts ({} done of the step): {}",
+                                   result.cuts, format_value(done), result.message);
+      return result;
+    }
+    ++result.cuts;
+    size *= 0.5;
+  }
+  result.converged = true;
+  result.message.clear();
+  pseudo_time_ += 1.0;
+  return result;
+}
+
+}  // namespace pilempm::mpm::quasi_static

@@ -1,0 +1,225 @@
+#pragma once
+// Quasi-static implicit material point method: static equilibrium per load step, solved by
+// Newton-Raphson (docs/quasi-static.md).
+//
+// Updated Lagrangian: the reference of a load step is the last converged configuration (particle
+// positions x_n, volumes V_n, GIMP domains). The unknowns are the displacement increments Δu_i of
+// the active grid nodes over the step. For an iterate Δu each particle gets
+//   G = Σ_i Δu_i ⊗ ∇S_i(x_n)  (the displacement-increment gradient),
+//   Δε = sym G (+ the hoop increment Δε_θθ = Σ_i S_i Δu_ri / r_p in axisymmetry),
+//   w = ½ (G_yx − G_xy) (the spin), rotated after Hughes & Winget (1980),
+// and the stress is integrated by the model from the converged state of the last step, once per
+// iteration (never accumulated over iterations). The residual at the free node components is
+//   R_i = Σ_p V_p B_i^T σ_p − Σ_p S_i m_p N g (0, −1) − λ Σ_p S_i f_p − f_i^contact,
+// B_i the strain-displacement operator (Mandel rows 11, 22, 33, 12; row 33 = S_i / r_p for the
+// radial component in axisymmetry, which gives the hoop term V σ_θθ S_i / r_p of the radial
+// force). The internal force uses the reference configuration of the step (x_n, V_n): the
+// geometric change within one step is neglected in the equilibrium (an error of the order of the
+// strain increment, not accumulated over steps).
+//
+// The Newton matrix is K = Σ_p V_p B^T D_p B + the contact stiffness, D_p the tangent of the
+// integrated update: the model's own tangent where it is exact (linear elasticity), else the
+// forward-difference perturbation of the integrated update (Fellin & Ostermann 2002), which is
+// the consistent tangent to the perturbation's accuracy for any model. K is not symmetric in
+// general; it is factorised by a sparse LU (Eigen's SparseLU or SuiteSparse UMFPACK).
+//
+// Contact with rigid bodies is a penalty law at the corners of the particles' GIMP domains against
+// the body's exact surface (RigidBody::query), with Coulomb friction (stick/slip return map on the
+// tangential trial force), independent of which grid nodes lie near the surface. See
+// surface_contact.hpp.
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "pilempm/constitutive/constitutive_model.hpp"
+#include "pilempm/mpm/grid.hpp"
+#include "pilempm/mpm/particles.hpp"
+#include "pilempm/mpm/quasi_static/linear_solver.hpp"
+#include "pilempm/mpm/quasi_static/surface_contact.hpp"
+#include "pilempm/mpm/rigid_body.hpp"
+#include "pilempm/mpm/shape_functions.hpp"
+
+namespace pilempm::mpm::quasi_static {
+
+/// Which material tangent the Newton matrix uses.
+enum class TangentKind {
+  automatic,     ///< the model's tangent for linear elasticity, perturbation for the others
+  perturbation,  ///< forward differences of the integrated update, for every model
+  elastic,       ///< the model's tangent(state, Δε) (for Mohr-Coulomb the elastic one: modified
+                 ///< Newton, linear convergence)
+};
+
+struct Settings {
+  Geometry geometry = Geometry::plane_strain;
+  ShapeFunction shape_function = ShapeFunction::cpgimp;
+  double gravity = 9.81;  ///< g [m/s^2] along −y; the step's multiplier N scales it
+  /// Converged when ||R|| <= force_tolerance * F_ref, F_ref the largest of the norms of the
+  /// internal, external and contact nodal forces (all active components, so reactions count) ...
+  double force_tolerance = 1.0e-6;
+  /// ... and |δu_k · R_(k-1)| <= energy_tolerance * |δu_1 · R_0| (the energy norm).
+  double energy_tolerance = 1.0e-10;
+  int max_iterations = 25;
+  /// Backtracking on ||R|| (halving the Newton step up to this many times, 0: none).
+  int line_search_steps = 4;
+  /// A sub-increment that does not converge is halved, at most this many times per load step.
+  int max_cuts = 8;
+  /// After a sub-increment that converged in at most `easy_iterations`, the next is doubled (up
+  /// to what remains of the step).
+  int easy_iterations = 4;
+  TangentKind tangent = TangentKind::automatic;
+  /// Start the iterations of an increment in which bodies move from the last increment's nodal
+  /// displacements scaled to the body motion, where that lowers the residual.
+  bool predictor = true;
+  /// Relative size of the strain perturbation h = perturbation * max(||Δε||, 1e-6).
+  double perturbation = 1.0e-7;
+  /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
+  /// body): a node whose support s_i = Σ_p S_ip V_p is below support_threshold times its own
+  /// volume v_i (h_x h_y, ∫ r dr dz in axisymmetry) is tied to each of its grid neighbours
+  /// with a better support by a ghost spring of stiffness
+  ///   k_i = ghost_stiffness · M_i · (1 − s_i / (support_threshold v_i)) (· r_i in axisymmetry),
+  /// M_i the largest constrained modulus of the particles it supports. The springs act between
+  /// nodes, so they exert no net force (nothing of the load is lost); they only keep the
+  /// node's equation away from singular. ghost_stiffness = 0: none.
+  double support_threshold = 0.05;
+  double ghost_stiffness = 1.0e-3;
+  /// UMFPACK where the build has it (about 3 times faster on the pile problem,
+  /// docs/quasi-static.md).
+  LinearSolverKind linear_solver =
+      umfpack_available() ? LinearSolverKind::umfpack : LinearSolverKind::sparse_lu;
+  ContactSettings contact;
+  int threads = 0;  ///< OpenMP threads for the particle loops; 0: omp_get_max_threads()
+
+  /// Throws InvalidValue naming the first setting out of range.
+  void validate() const;
+};
+
+/// The load of one step: what it reaches at its end.
+struct LoadStep {
+  /// Displacement of each rigid body over the step [m] (empty: none move).
+  std::vector<Vec2> body_displacement;
+  double gravity_multiplier = 1.0;   ///< N at the end of the step
+  double traction_multiplier = 1.0;  ///< λ on the particles' external_force at the end
+};
+
+/// One Newton iteration.
+struct IterationRecord {
+  double residual_norm = 0.0;  ///< ||R|| after the iteration [N]
+  double energy_norm = 0.0;    ///< |δu · R_before| [J]
+  double line_search = 1.0;    ///< the step length taken
+};
+
+/// A converged (or failed) sub-increment of a load step.
+struct SubIncrementRecord {
+  double fraction = 0.0;          ///< of the load step
+  double initial_residual = 0.0;  ///< ||R|| before the first iteration [N]
+  double reference_force = 0.0;   ///< F_ref of the force criterion [N]
+  bool converged = false;
+  std::vector<IterationRecord> iterations;
+};
+
+struct LoadStepResult {
+  bool converged = false;
+  int iterations = 0;  ///< Newton iterations over all sub-increments, failed ones too
+  int cuts = 0;        ///< halvings
+  std::vector<SubIncrementRecord> sub_increments;
+  std::string message;  ///< why it failed
+  /// Time of the parts [s]: model updates and tangents, assembly, factorisation and solve.
+  double seconds_material = 0.0, seconds_assembly = 0.0, seconds_factorisation = 0.0;
+  int unknowns = 0;  ///< size of the last system
+};
+
+/// Contact force on a rigid body [N] (per unit thickness, per radian in axisymmetry), in total
+/// and per surface part; a pile pushed into soil gets total.y() > 0.
+struct BodyForce {
+  Vec2 total = Vec2::Zero();
+  std::vector<Vec2> parts;
+};
+
+/// Work account [J], accumulated over the accepted steps (trapezoidal rule).
+struct Work {
+  double internal = 0.0;  ///< Σ V σ:Δε
+  double external = 0.0;  ///< gravity and tractions
+  double contact = 0.0;   ///< of the rigid bodies on the soil, Σ F_body · Δd_body
+};
+
+class QuasiStaticSolver {
+ public:
+  /// Throws InvalidValue for bad settings, a missing material, a particle outside the grid or
+  /// without volume, or r <= 0 in axisymmetry. The gravity and traction multipliers start at 0.
+  QuasiStaticSolver(Grid grid, Particles particles, std::vector<ModelPtr> materials,
+                    Settings settings = {});
+
+  /// Solves one load step (cut and retried where needed). Converged: the state has advanced to
+  /// the end of the step. Not converged: the state is that at the start of the step.
+  LoadStepResult solve_step(const LoadStep& load);
+
+  /// Adds a rigid body; returns its index. Throws InvalidValue for a pile in plane strain or a
+  /// polygon in axisymmetry.
+  int add_rigid_body(RigidBody body);
+  int rigid_body_count() const { return static_cast<int>(bodies_.size()); }
+  const RigidBody& rigid_body(int index) const { return bodies_.at(std::size_t(index)); }
+  RigidBody& rigid_body(int index) { return bodies_.at(std::size_t(index)); }
+  /// The contact force on body `index` at the end of the last step.
+  const BodyForce& body_force(int index) const { return body_forces_.at(std::size_t(index)); }
+  /// The force the grid's constraints exert on the soil at the end of the last step [N].
+  const Vec2& boundary_reaction() const { return boundary_reaction_; }
+  /// The largest penetration of a contact point into a body at the end of the last step [m].
+  double max_penetration() const { return max_penetration_; }
+
+  double gravity_multiplier() const { return gravity_multiplier_; }
+  double traction_multiplier() const { return traction_multiplier_; }
+  /// The sum of the accepted steps' fractions: the load path's parameter.
+  double pseudo_time() const { return pseudo_time_; }
+  const Work& work() const { return work_; }
+
+  const Grid& grid() const { return grid_; }
+  const Particles& particles() const { return particles_; }
+  Particles& particles() { return particles_; }
+  const Settings& settings() const { return settings_; }
+  /// Replaces material `index`; states are kept.
+  void set_material(int index, ModelPtr model);
+  /// Nodal displacement of the last accepted step (x, y per node; zero where inactive) [m].
+  const std::vector<Vec2>& last_node_displacement() const { return node_displacement_; }
+  /// The Newton matrix of the last iteration (free components of the active nodes), for
+  /// inspection of its conditioning.
+  const SparseMatrix& last_matrix() const { return last_matrix_; }
+
+ private:
+  struct Trial;  // the per-particle results of one evaluation of an iterate
+  struct StepSetup;
+  struct Committed;
+
+  bool solve_sub_increment(double fraction, const LoadStep& load, SubIncrementRecord& record,
+                           LoadStepResult& result);
+  void build_setup(StepSetup& setup) const;
+  // Evaluates the iterate: stresses, internal/external/contact forces, residual; with
+  // `tangent`, the Newton matrix too. Returns false when a model update fails.
+  bool evaluate(const StepSetup& setup, const std::vector<double>& du, double gravity,
+                double traction, const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
+                LoadStepResult& result) const;
+  void commit(const StepSetup& setup, const std::vector<double>& du, const Trial& trial,
+              double gravity, double traction, const std::vector<Vec2>& body_step);
+
+  Grid grid_;
+  Particles particles_;
+  std::vector<ModelPtr> materials_;
+  Settings settings_;
+  int threads_ = 1;
+  std::vector<RigidBody> bodies_;
+  std::vector<BodyForce> body_forces_;
+  /// Tangential contact force per particle corner at the last converged state (4 per particle).
+  std::vector<ContactHistory> contact_history_;
+  /// The contact points: the corners of the particles' domains at creation, moved since with
+  /// the particles' affine motion (4 per particle) [m].
+  std::vector<Vec2> corner_position_;
+  double last_body_step_ = 0.0;  // largest body displacement of the last increment [m]
+  Vec2 boundary_reaction_ = Vec2::Zero();
+  double max_penetration_ = 0.0;
+  double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, pseudo_time_ = 0.0;
+  Work work_;
+  std::vector<Vec2> node_displacement_;
+  LinearSolver linear_solver_;
+  SparseMatrix last_matrix_;
+};
+
+}  // namespace pilempm::mpm::quasi_static

@@ -1,0 +1,49 @@
+#include "pilempm/mpm/quasi_static/surface_contact.hpp"
+
+#include <cmath>
+
+#include "pilempm/core/error.hpp"
+
+namespace pilempm::mpm::quasi_static {
+
+void ContactSettings::validate() const {
+  if (!(penalty_factor > 0.0) || !std::isfinite(penalty_factor))
+    throw InvalidValue("contact penalty_factor", format_value(penalty_factor), "> 0");
+  if (!(tangential_ratio > 0.0) || !std::isfinite(tangential_ratio))
+    throw InvalidValue("contact tangential_ratio", format_value(tangential_ratio), "> 0");
+  if (!(stiffness_margin >= 0.0) || !std::isfinite(stiffness_margin))
+    throw InvalidValue("contact stiffness_margin", format_value(stiffness_margin), ">= 0");
+}
+
+PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
+                             const Vec2& previous_tangential_force, double normal_stiffness,
+                             double tangential_stiffness, double friction, double margin) {
+  PointContact contact;
+  const Vec2 tangent(-normal.y(), normal.x());
+  if (gap >= 0.0 && gap < margin) {
+    contact.stiffness = normal_stiffness * normal * normal.transpose() +
+                        tangential_stiffness * tangent * tangent.transpose();
+    return contact;
+  }
+  if (!(gap < 0.0)) return contact;
+  contact.active = true;
+  contact.normal_force = -normal_stiffness * gap;
+  const double trial =
+      previous_tangential_force.dot(tangent) - tangential_stiffness * slip_increment.dot(tangent);
+  const double limit = friction * contact.normal_force;
+  contact.stiffness = normal_stiffness * normal * normal.transpose();
+  if (std::abs(trial) <= limit) {
+    contact.tangential_force = trial;
+    contact.stiffness += tangential_stiffness * tangent * tangent.transpose();
+  } else {
+    contact.slip = true;
+    const double sign = trial > 0.0 ? 1.0 : -1.0;
+    contact.tangential_force = sign * limit;
+    contact.stiffness += sign * friction * normal_stiffness * tangent * normal.transpose();
+  }
+  contact.tangential_vector = contact.tangential_force * tangent;
+  contact.force = contact.normal_force * normal + contact.tangential_force * tangent;
+  return contact;
+}
+
+}  // namespace pilempm::mpm::quasi_static

@@ -1,0 +1,210 @@
+// Quasi-static analysis (docs/quasi-static.md), verification 1: a linear elastic column under its
+// own weight, rollers on the sides (the axis in axisymmetry), fixed base, loaded from zero to N g
+// in one load step. The closed form (small strain, 1D, constrained modulus M =
+// E(1-ν)/((1+ν)(1-2ν))):
+//   σ_yy(Y) = -N ρ g (H - Y),   u_y(Y) = -N ρ g (H Y - Y²/2) / M,   σ_xx = σ_33 = ν/(1-ν) σ_yy.
+// With 2 x 2 particles per cell, GIMP is the linear hat in this state and the particle
+// quadrature integrates the load exactly, so the nodal displacements are exact and the stress is
+// constant per cell, exact at the cell centre and off by N ρ g h/4 at the particles: the stress
+// converges with order 1, the displacement at the particles with order 2.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include <Eigen/SVD>
+
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
+
+namespace pilempm::mpm::quasi_static {
+namespace {
+
+constexpr double kHeight = 1.0;      // H [m]
+constexpr double kDensity = 2000.0;  // ρ [kg/m^3]
+constexpr double kYoung = 50.0e6;    // E [Pa]
+constexpr double kPoisson = 0.3;
+
+double constrained_modulus() {
+  return kYoung * (1.0 - kPoisson) / ((1.0 + kPoisson) * (1.0 - 2.0 * kPoisson));
+}
+
+struct ColumnResult {
+  double max_stress_error = 0.0;  // max |σ_yy - exact| / (N ρ g h / 4), 1 is the bound
+  double stress_rms = 0.0;        // RMS (σ_yy - exact) / (N ρ g H)
+  double displacement_rms = 0.0;  // RMS (u_y - exact) / |u_y(H)| at the particles
+  double top_node_error = 0.0;    // |u_y(node at H) - exact| / |exact|
+  double lateral_error = 0.0;     // max |σ_xx/σ_yy - K0|, |σ_33/σ_yy - K0|
+  int iterations = 0;
+  bool converged = false;
+};
+
+ColumnResult run_column(Geometry geometry, int cells, double gravity_multiplier) {
+  const double h = kHeight / cells;
+  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
+            GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
+  grid.set_boundary(Side::left, BoundaryCondition::roller);
+  grid.set_boundary(Side::right, BoundaryCondition::roller);
+  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
+  Particles particles;
+  RectangleFill fill;
+  fill.x_min = 0.0;
+  fill.x_max = 2.0 * h;
+  fill.y_min = 0.0;
+  fill.y_max = kHeight;
+  fill.density = kDensity;
+  fill_rectangle(particles, grid, geometry, fill);
+  std::vector<double> start_y(particles.size());
+  for (std::size_t p = 0; p < particles.size(); ++p) start_y[p] = particles.position[p].y();
+
+  Settings settings;
+  settings.geometry = geometry;
+  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  LoadStep load;
+  load.gravity_multiplier = gravity_multiplier;
+  const LoadStepResult step = solver.solve_step(load);
+
+  ColumnResult result;
+  result.converged = step.converged;
+  result.iterations = step.iterations;
+  const double weight = gravity_multiplier * kDensity * settings.gravity;
+  const double m = constrained_modulus();
+  const double k0 = kPoisson / (1.0 - kPoisson);
+  auto exact_u = [&](double y) { return -weight * (kHeight * y - 0.5 * y * y) / m; };
+  const Particles& p = solver.particles();
+  double s2 = 0.0, u2 = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double y = start_y[i];
+    const Vec6& s = p.state[i].stress;
+    const double exact = -weight * (kHeight - y);
+    result.max_stress_error =
+        std::max(result.max_stress_error, std::abs(s[k22] - exact) / (weight * h / 4.0));
+    s2 += std::pow((s[k22] - exact) / (weight * kHeight), 2);
+    const double u = p.position[i].y() - y;
+    u2 += std::pow((u - exact_u(y)) / exact_u(kHeight), 2);
+    result.lateral_error = std::max(
+        {result.lateral_error, std::abs(s[k11] / s[k22] - k0), std::abs(s[k33] / s[k22] - k0)});
+  }
+  result.stress_rms = std::sqrt(s2 / double(p.size()));
+  result.displacement_rms = std::sqrt(u2 / double(p.size()));
+  const int top = solver.grid().node_index(1, cells);
+  result.top_node_error =
+      std::abs(solver.last_node_displacement()[std::size_t(top)].y() - exact_u(kHeight)) /
+      std::abs(exact_u(kHeight));
+  return result;
+}
+
+void check_column(Geometry geometry) {
+  std::vector<ColumnResult> results;
+  for (int cells : {4, 8, 16}) {
+    results.push_back(run_column(geometry, cells, 50.0));
+    const ColumnResult& r = results.back();
+    std::printf(
+        "cells %2d: iterations %d, max stress error %.3f (of ρNgh/4), stress RMS %.2e, "
+        "displacement RMS %.2e, top node %.1e, K0 %.1e\n",
+        cells, r.iterations, r.max_stress_error, r.stress_rms, r.displacement_rms, r.top_node_error,
+        r.lateral_error);
+    ASSERT_TRUE(r.converged);
+    // Equilibrium in one load step: linear elasticity converges in one Newton iteration.
+    EXPECT_EQ(r.iterations, 1);
+    EXPECT_LT(r.max_stress_error, 1.0 + 1e-6);
+    EXPECT_LT(r.top_node_error, 1e-6);
+    EXPECT_LT(r.lateral_error, 1e-6);
+  }
+  for (std::size_t k = 1; k < results.size(); ++k) {
+    const double stress_order = std::log2(results[k - 1].stress_rms / results[k].stress_rms);
+    const double displacement_order =
+        std::log2(results[k - 1].displacement_rms / results[k].displacement_rms);
+    std::printf("order: stress %.2f, displacement %.2f\n", stress_order, displacement_order);
+    EXPECT_NEAR(stress_order, 1.0, 0.1);
+    EXPECT_NEAR(displacement_order, 2.0, 0.15);
+  }
+}
+
+TEST(QuasiStaticColumn, PlaneStrainSelfWeightInOneStepConvergesWithOrder) {
+  check_column(Geometry::plane_strain);
+}
+
+TEST(QuasiStaticColumn, AxisymmetricSelfWeightInOneStepConvergesWithOrder) {
+  check_column(Geometry::axisymmetric);
+}
+
+// Stabilisation of weakly supported nodes: the column's particles are lifted by a small fraction
+// of a cell, so that the top layer's domains reach a row of nodes by that fraction only. Without
+// ghost springs those nodes make the Newton matrix nearly singular (their equations carry
+// weights of the order of the overlap squared); with them the condition number drops by orders
+// of magnitude, while the base still carries the whole weight (the springs are internal) and
+// the settlement of the top particle stays close to the closed form (closer than without).
+struct LiftedColumn {
+  double condition = 0.0;
+  double reaction_error = 0.0;  // |R_y - W| / W
+  double settlement = 0.0;      // of the top particle [m]
+};
+
+LiftedColumn lifted_column(double ghost_stiffness, double lift) {
+  const int cells = 8;
+  const double h = kHeight / cells;
+  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
+            GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
+  grid.set_boundary(Side::left, BoundaryCondition::roller);
+  grid.set_boundary(Side::right, BoundaryCondition::roller);
+  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
+  Particles particles;
+  RectangleFill fill;
+  fill.x_min = 0.0;
+  fill.x_max = 2.0 * h;
+  fill.y_min = 0.0;
+  fill.y_max = kHeight;
+  fill.density = kDensity;
+  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  double weight = 0.0;
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    particles.position[p].y() += lift * h;
+    weight += particles.mass[p] * 9.81;
+  }
+  Settings settings;
+  settings.ghost_stiffness = ghost_stiffness;
+  settings.linear_solver = LinearSolverKind::sparse_lu;
+  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  LoadStep load;
+  load.gravity_multiplier = 1.0;
+  const LoadStepResult step = solver.solve_step(load);
+  EXPECT_TRUE(step.converged) << step.message;
+  LiftedColumn result;
+  const Eigen::MatrixXd dense(solver.last_matrix());
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(dense);
+  const auto& sigma = svd.singularValues();
+  result.condition = sigma(0) / sigma(sigma.size() - 1);
+  result.reaction_error = std::abs(solver.boundary_reaction().y() - weight) / weight;
+  double top = -1.0;
+  for (std::size_t p = 0; p < solver.particles().size(); ++p)
+    top = std::max(top, solver.particles().position[p].y());
+  result.settlement = kHeight - 0.25 * h + lift * h - top;
+  return result;
+}
+
+TEST(QuasiStaticStabilisation, GhostSpringsBoundTheConditionWithoutLosingLoad) {
+  const LiftedColumn bare = lifted_column(0.0, 0.002);
+  const LiftedColumn ghost = lifted_column(1.0e-3, 0.002);
+  std::printf(
+      "lift 0.002 h: condition %.2e without ghost springs, %.2e with; reaction error %.1e "
+      "/ %.1e; settlement %.6e / %.6e m\n",
+      bare.condition, ghost.condition, bare.reaction_error, ghost.reaction_error, bare.settlement,
+      ghost.settlement);
+  EXPECT_GT(bare.condition, 100.0 * ghost.condition);
+  EXPECT_LT(bare.reaction_error, 1e-8);
+  EXPECT_LT(ghost.reaction_error, 1e-8);
+  // Closed form at the top particle, Y = H - h/4 above the base: ρ g (H Y - Y²/2) / M.
+  const double y = kHeight - 0.25 * kHeight / 8.0;
+  const double exact = kDensity * 9.81 * (kHeight * y - 0.5 * y * y) / constrained_modulus();
+  std::printf("settlement closed form %.6e m\n", exact);
+  EXPECT_NEAR(ghost.settlement, exact, 5e-3 * exact);
+  EXPECT_LE(std::abs(ghost.settlement - exact), std::abs(bare.settlement - exact));
+}
+
+}  // namespace
+}  // namespace pilempm::mpm::quasi_static

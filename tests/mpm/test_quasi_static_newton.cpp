@@ -1,0 +1,248 @@
+// Quasi-static analysis (docs/quasi-static.md): Lamé's thick cylinder (verification 2) and the
+// convergence of Newton's method (verification 6).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <memory>
+#include <vector>
+
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
+#include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
+
+namespace pilempm::mpm::quasi_static {
+namespace {
+
+// Lamé: a linear elastic wall a <= r <= b, a slice in z between rollers (plane strain along the
+// axis), internal pressure p_i as point loads on the innermost particle layer (p_i a 2 l_z per
+// radian), outer face free. Tension positive:
+//   σ_r = A - B/r², σ_θ = A + B/r², σ_z = 2 ν A, A = p_i a²/(b² - a²), B = A b²,
+//   u_r = (1 + ν)/E ((1 - 2ν) A r + B/r).
+constexpr double kInner = 1.0, kOuter = 2.0, kPressure = 10.0e3, kYoung = 10.0e6, kPoisson = 0.3;
+
+struct LameResult {
+  double radial_error = 0.0;  // mean |σ_r - exact| / p_i, particles off the face layers
+  double hoop_error = 0.0;    // mean |σ_θ - exact| / |exact|, same particles
+  double inner_displacement_error = 0.0;  // |u_r(node at a) - exact| / exact
+  int iterations = 0;
+  bool converged = false;
+};
+
+LameResult run_lame(int cells) {
+  const double h = (kOuter - kInner) / cells;
+  Grid grid(GridAxis::uniform(kInner - 2.0 * h, kOuter + 2.0 * h, cells + 4),
+            GridAxis::uniform(0.0, 2.0 * h, 2));
+  grid.set_boundary(Side::bottom, BoundaryCondition::roller);
+  grid.set_boundary(Side::top, BoundaryCondition::roller);
+  Particles particles;
+  RectangleFill fill;
+  fill.x_min = kInner;
+  fill.x_max = kOuter;
+  fill.y_min = 0.0;
+  fill.y_max = 2.0 * h;
+  fill.density = 2000.0;
+  fill_rectangle(particles, grid, Geometry::axisymmetric, fill);
+  std::vector<double> radius(particles.size());
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    radius[p] = particles.position[p].x();
+    const double face = radius[p] - particles.half_size[p].x();
+    if (std::abs(face - kInner) < 1e-9)
+      particles.external_force[p] = Vec2(kPressure * face * 2.0 * particles.half_size[p].y(), 0.0);
+  }
+  Settings settings;
+  settings.geometry = Geometry::axisymmetric;
+  settings.gravity = 0.0;
+  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  LoadStep load;
+  load.traction_multiplier = 1.0;
+  const LoadStepResult step = solver.solve_step(load);
+
+  const double a = kPressure * kInner * kInner / (kOuter * kOuter - kInner * kInner);
+  const double b = a * kOuter * kOuter;
+  LameResult result;
+  result.converged = step.converged;
+  result.iterations = step.iterations;
+  double radial = 0.0, hoop = 0.0;
+  int counted = 0;
+  const Particles& p = solver.particles();
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    if (radius[i] < kInner + 0.5 * h || radius[i] > kOuter - 0.5 * h) continue;
+    const double r = radius[i];
+    radial += std::abs(p.state[i].stress[k11] - (a - b / (r * r))) / kPressure;
+    hoop += std::abs(p.state[i].stress[k33] - (a + b / (r * r))) / (a + b / (r * r));
+    ++counted;
+  }
+  result.radial_error = radial / counted;
+  result.hoop_error = hoop / counted;
+  const double exact_u =
+      (1.0 + kPoisson) / kYoung * ((1.0 - 2.0 * kPoisson) * a * kInner + b / kInner);
+  const double u = solver.last_node_displacement()[std::size_t(solver.grid().node_index(2, 1))].x();
+  result.inner_displacement_error = std::abs(u - exact_u) / exact_u;
+  return result;
+}
+
+TEST(QuasiStaticLame, AxisymmetricCylinderMatchesLameAndConverges) {
+  std::vector<LameResult> results;
+  for (int cells : {16, 32, 64}) {
+    results.push_back(run_lame(cells));
+    const LameResult& r = results.back();
+    std::printf(
+        "lame %2d cells: iterations %d, mean σ_r err/p_i %.2e, mean rel σ_θ err %.2e, "
+        "u_r(a) rel err %.2e\n",
+        cells, r.iterations, r.radial_error, r.hoop_error, r.inner_displacement_error);
+    ASSERT_TRUE(r.converged);
+    EXPECT_EQ(r.iterations, 1);
+  }
+  EXPECT_LT(results.back().radial_error, 0.01);
+  EXPECT_LT(results.back().hoop_error, 0.01);
+  EXPECT_LT(results.back().inner_displacement_error, 0.01);
+  for (std::size_t k = 1; k < results.size(); ++k) {
+    const double order = std::log2(results[k - 1].hoop_error / results[k].hoop_error);
+    std::printf("lame order σ_θ: %.2f\n", order);
+    EXPECT_GT(order, 0.8);
+  }
+}
+
+// Newton on an elastoplastic column: Mohr-Coulomb (φ = 20°, ψ = 0, c = 10 kPa) loaded by its own
+// weight at 50 g in one step. Its elastic K0 = ν/(1-ν) = 0.43 lies below Rankine's active ratio
+// for φ = 20°, so the deeper part yields while the top stays elastic: a piecewise linear problem
+// with an elastic-plastic boundary inside. With the consistent (perturbation) tangent the residual
+// falls quadratically (r_(k+1) <= C r_k² with the error at the start of the last iterations);
+// with the elastic tangent (modified Newton) it falls linearly and needs many more iterations.
+std::vector<double> mohr_coulomb_column_residuals(TangentKind tangent, int& iterations) {
+  const int cells = 16;
+  const double h = 1.0 / cells;
+  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2), GridAxis::uniform(0.0, 1.0 + 2.0 * h, cells + 2));
+  grid.set_boundary(Side::left, BoundaryCondition::roller);
+  grid.set_boundary(Side::right, BoundaryCondition::roller);
+  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
+  Particles particles;
+  RectangleFill fill;
+  fill.x_min = 0.0;
+  fill.x_max = 2.0 * h;
+  fill.y_min = 0.0;
+  fill.y_max = 1.0;
+  fill.density = 2000.0;
+  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  MohrCoulombParameters mc;
+  mc.young_modulus = 50.0e6;
+  mc.poisson_ratio = 0.3;
+  mc.cohesion = 10.0e3;
+  mc.friction_angle_deg = 20.0;
+  Settings settings;
+  settings.tangent = tangent;
+  settings.max_iterations = 60;
+  settings.force_tolerance = 1e-10;
+  settings.energy_tolerance = 1e-20;
+  settings.max_cuts = 0;
+  QuasiStaticSolver solver(std::move(grid), std::move(particles),
+                           {std::make_shared<MohrCoulomb>(mc)}, settings);
+  LoadStep load;
+  load.gravity_multiplier = 50.0;
+  const LoadStepResult step = solver.solve_step(load);
+  EXPECT_TRUE(step.converged) << step.message;
+  iterations = step.iterations;
+  std::vector<double> relative;
+  const SubIncrementRecord& record = step.sub_increments.back();
+  relative.push_back(record.initial_residual / record.reference_force);
+  for (const IterationRecord& it : record.iterations)
+    relative.push_back(it.residual_norm / record.reference_force);
+  // The column yielded: the horizontal stress at the base is Rankine's, not K0's.
+  const Particles& p = solver.particles();
+  const double ka = std::pow(std::tan(kPi / 4.0 - 10.0 * kPi / 180.0), 2);
+  double lowest = 1.0;
+  std::size_t base = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.position[i].y() < lowest) lowest = p.position[i].y(), base = i;
+  const double sv = p.state[base].stress[k22], sh = p.state[base].stress[k11];
+  const double rankine = ka * sv + 2.0 * mc.cohesion * std::sqrt(ka);  // tension positive
+  EXPECT_NEAR(sh, rankine, 1e-3 * std::abs(sv));
+  return relative;
+}
+
+TEST(QuasiStaticNewton, MohrCoulombConvergesQuadraticallyWithTheConsistentTangent) {
+  int consistent_iterations = 0, elastic_iterations = 0;
+  const std::vector<double> consistent =
+      mohr_coulomb_column_residuals(TangentKind::perturbation, consistent_iterations);
+  for (std::size_t k = 0; k < consistent.size(); ++k)
+    std::printf("consistent tangent: iteration %zu, ||R||/F_ref %.3e\n", k, consistent[k]);
+  const std::vector<double> elastic =
+      mohr_coulomb_column_residuals(TangentKind::elastic, elastic_iterations);
+  std::printf("elastic tangent: %d iterations, last ||R||/F_ref %.3e\n", elastic_iterations,
+              elastic.back());
+  EXPECT_LE(consistent_iterations, 8);
+  EXPECT_GT(elastic_iterations, 2 * consistent_iterations);
+  // Quadratic: once the residual is small, the next one is about its square (here checked as
+  // r_(k+1) <= 10 r_k²) for the iterations that start below 0.1 and end above round-off.
+  int quadratic_checks = 0;
+  for (std::size_t k = 1; k + 1 < consistent.size(); ++k) {
+    if (consistent[k] > 0.1 || consistent[k + 1] < 1e-12) continue;  // above round-off
+    EXPECT_LE(consistent[k + 1], 10.0 * consistent[k] * consistent[k]) << "iteration " << k;
+    ++quadratic_checks;
+  }
+  EXPECT_GE(quadratic_checks, 1);
+}
+
+// Hypoplasticity with intergranular strain ("original" set, IGS3, e = 0.68): a sand column in its
+// K0 state at 40 g (vertical intergranular strain mobilised), loaded to 50 g and 60 g in two load
+// steps. Newton with the perturbation tangent of the integrated update converges in a few
+// iterations per step, and the residual falls superlinearly in the last iterations; the
+// vertical stress at the base then carries the column's weight at 60 g.
+TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIterations) {
+  const int cells = 16;
+  const double height = 1.0, h = height / cells, void_ratio = 0.68;
+  const double density = 2650.0 / (1.0 + void_ratio);
+  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
+            GridAxis::uniform(0.0, height + 2.0 * h, cells + 2));
+  grid.set_boundary(Side::left, BoundaryCondition::roller);
+  grid.set_boundary(Side::right, BoundaryCondition::roller);
+  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
+  const auto model =
+      std::make_shared<Hypoplastic>(hypoplastic_set("original"), intergranular_strain_set("IGS3"));
+  Particles particles;
+  RectangleFill fill;
+  fill.x_max = 2.0 * h;
+  fill.y_max = height;
+  fill.density = density;
+  fill.initial_state.void_ratio = void_ratio;
+  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const double vertical = -density * 9.81 * 40.0 * (height - particles.position[p].y()) - 1e3;
+    particles.state[p].stress = diagonal6(0.5 * vertical, vertical, 0.5 * vertical);
+    Hypoplastic::intergranular_strain(particles.state[p]) =
+        diagonal6(0.0, -model->intergranular().R, 0.0);
+  }
+  Settings settings;
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  LoadStep load;
+  load.gravity_multiplier = 40.0;
+  ASSERT_TRUE(solver.solve_step(load).converged);  // the K0 state's own equilibrium
+  for (double n : {50.0, 60.0}) {
+    load.gravity_multiplier = n;
+    const LoadStepResult r = solver.solve_step(load);
+    ASSERT_TRUE(r.converged) << r.message;
+    std::printf("hypoplastic+IGS to %.0f g: %d iterations, %d cuts; ||R||/F_ref:", n, r.iterations,
+                r.cuts);
+    for (const SubIncrementRecord& sub : r.sub_increments)
+      for (const IterationRecord& it : sub.iterations)
+        std::printf(" %.2e", it.residual_norm / sub.reference_force);
+    std::printf("\n");
+    EXPECT_LE(r.iterations, 8);
+    EXPECT_EQ(r.cuts, 0);
+  }
+  // The base particle carries the weight above it at 60 g to the stress's first-order error
+  // (ρ N g h/4, see the elastic column).
+  const Particles& p = solver.particles();
+  std::size_t base = 0;
+  for (std::size_t i = 0; i < p.size(); ++i)
+    if (p.position[i].y() < p.position[base].y()) base = i;
+  const double expected = -density * 9.81 * 60.0 * (height - 0.25 * h) - 1e3;
+  EXPECT_NEAR(p.state[base].stress[k22], expected,
+              density * 9.81 * 60.0 * h / 4.0 + 1e-3 * std::abs(expected));
+}
+
+}  // namespace
+}  // namespace pilempm::mpm::quasi_static
