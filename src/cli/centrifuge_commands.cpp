@@ -12,6 +12,8 @@
 #include <memory>
 #include <string>
 
+#include <unistd.h>
+
 #include "cli/commands.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
@@ -20,6 +22,8 @@
 #include "pilempm/study/centrifuge_run.hpp"
 
 namespace pilempm::cli {
+
+using namespace scenario;
 
 namespace {
 
@@ -47,6 +51,7 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
   CentrifugeRunOptions options;
   options.python = flags.python;
   options.plots = !flags.no_plots;
+  options.progress_on_terminal = isatty(STDERR_FILENO) != 0;
   const CentrifugeSummary r =
       run_centrifuge(scenario, text, flags.out, flags.quiet ? nullptr : &std::cerr, options);
   fmt::print("head force at the end of installation: {} N (tip at {} D)\n",

@@ -10,6 +10,8 @@
 #include <memory>
 #include <string>
 
+#include <unistd.h>
+
 #include "cli/commands.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
@@ -26,20 +28,22 @@ struct MpmRunFlags {
 };
 
 void run_mpm(const MpmRunFlags& flags) {
-  const MpmCase c = read_mpm_case(flags.case_file);
+  const simulation::MpmCase c = read_mpm_case(flags.case_file);
   double total = 0.0;
-  for (const MpmPhase& phase : c.phases) total += phase.duration;
+  for (const simulation::MpmPhase& phase : c.phases) total += phase.duration;
   fmt::print("{}: {} region{}, {} bod{}, {} phase{}, at most {:.6g} s simulated -> {}/\n", c.source,
              c.regions.size(), c.regions.size() == 1 ? "" : "s", c.bodies.size(),
              c.bodies.size() == 1 ? "y" : "ies", c.phases.size(), c.phases.size() == 1 ? "" : "s",
              total, flags.out);
   std::fflush(stdout);
+  MpmRunHooks hooks;
+  hooks.progress_on_terminal = isatty(STDERR_FILENO) != 0;
   const MpmRunSummary summary =
-      run_mpm_case(c, flags.out, flags.quiet ? nullptr : &std::cerr, flags.restart);
+      run_mpm_case(c, flags.out, flags.quiet ? nullptr : &std::cerr, flags.restart, hooks);
   if (!flags.restart.empty())
     fmt::print("restarted from {}: phases from \"{}\" on\n", flags.restart,
                c.phases.at(summary.first_phase).name);
-  for (const MpmPhaseEnd& end : summary.phase_ends)
+  for (const simulation::MpmPhaseEnd& end : summary.phase_ends)
     fmt::print("phase {}: ended at t = {:.6g} s, step {}: {}\n", end.phase, end.time, end.steps,
                end.reason);
   fmt::print(

@@ -15,9 +15,14 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `pilempm ARGUMENTS` through the shell and collects its output and exit code.
-inline Result run_pilempm(const std::string& arguments) {
-  const std::string command = std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
+/// Runs `pilempm ARGUMENTS` through the shell and collects its output and exit code. With
+/// `timeout_s` > 0 the program is stopped after that many seconds (killed 10 s later if need be)
+/// and the exit code is then 124.
+inline Result run_pilempm(const std::string& arguments, int timeout_s = 0) {
+  const std::string limit =
+      timeout_s > 0 ? "timeout -k 10 " + std::to_string(timeout_s) + " " : std::string();
+  const std::string command =
+      limit + std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
   Result r;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return r;

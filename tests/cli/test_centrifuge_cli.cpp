@@ -19,6 +19,7 @@
 
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
 namespace {
 
@@ -125,21 +126,21 @@ TEST(CentrifugeCli, CasePrintsTheMpmCaseOfTheQuickCase) {
   EXPECT_NE(r.output.find("[[phase]]"), std::string::npos) << r.output;
 
   // It is an MPM case file: read back, the pile and the phases of the scenario.
-  const pilempm::MpmCase c = pilempm::read_mpm_case_text(r.output, "printed case");
+  const pilempm::simulation::MpmCase c = pilempm::read_mpm_case_text(r.output, "printed case");
   EXPECT_EQ(c.geometry, pilempm::mpm::Geometry::axisymmetric);
   ASSERT_EQ(c.bodies.size(), 1u);
   EXPECT_EQ(c.bodies[0].name, "pile");
-  const pilempm::CentrifugeScenario s = pilempm::read_centrifuge_case(quick_case_path());
+  const pilempm::scenario::CentrifugeScenario s = pilempm::read_centrifuge_case(quick_case_path());
   std::vector<std::string> phases;
-  for (const pilempm::MpmPhase& p : c.phases) phases.push_back(p.name);
-  EXPECT_EQ(phases, pilempm::scenario_phase_names(s));
+  for (const pilempm::simulation::MpmPhase& p : c.phases) phases.push_back(p.name);
+  EXPECT_EQ(phases, pilempm::scenario::scenario_phase_names(s));
   EXPECT_NEAR(c.bodies[0].tip_y, s.initial_tip_y(), 1e-9);
 
   // The built-in case is examples/centrifuge/quick.toml.
   const Result from_file = run_pilempm("centrifuge case '" + quick_case_path() + "'");
   ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
   EXPECT_EQ(from_file.output, r.output);
-  EXPECT_EQ(r.output, pilempm::centrifuge_mpm_case(s));
+  EXPECT_EQ(r.output, pilempm::scenario::centrifuge_mpm_case(s));
 }
 
 TEST(CentrifugeCli, BadCaseFileIsAnErrorNamingTheFileTheLineAndTheKey) {

@@ -32,6 +32,7 @@
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/toml_reader.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
 namespace pilempm {
 namespace {
@@ -316,13 +317,13 @@ std::vector<CaseKind> case_kinds() {
         "mpm/bar_vibration.toml", "mpm/restart_collapse.toml", "mpm/lame_cylinder_32.toml",
         "mpm/strip_footing_load_10.toml"},
        [](const std::string& text, const std::string& source) {
-         (void)make_mpm_solver(read_mpm_case_text(text, source));
+         (void)simulation::make_mpm_solver(read_mpm_case_text(text, source));
        }},
       {"centrifuge",
        {"centrifuge/quick.toml", "centrifuge/igs1_small.toml", "centrifuge/md_original.toml",
         "centrifuge/mpm4_modified_then_original.toml", "centrifuge/md_stress_dependent_alpha.toml"},
        [](const std::string& text, const std::string& source) {
-         const CentrifugeScenario scenario = read_centrifuge_case_text(text, source);
+         const scenario::CentrifugeScenario scenario = read_centrifuge_case_text(text, source);
          (void)centrifuge_to_mpm_case(scenario, source);
        }},
   };

@@ -14,11 +14,15 @@
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
-#include "pilempm/io/mpm_phase_control.hpp"
-#include "pilempm/io/mpm_tractions.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
+#include "pilempm/simulation/phase_control.hpp"
+#include "pilempm/simulation/tractions.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace simulation;
+using namespace scenario;
 
 constexpr double kDeg = kPi / 180.0;
 

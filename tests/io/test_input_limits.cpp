@@ -8,6 +8,7 @@
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/toml_reader.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
 namespace pilempm {
 namespace {
@@ -58,7 +59,7 @@ std::string with(std::string text, const std::string& from, const std::string& t
 
 std::string mpm_error(const std::string& text) {
   try {
-    (void)make_mpm_solver(read_mpm_case_text(text, "case.toml"));
+    (void)simulation::make_mpm_solver(read_mpm_case_text(text, "case.toml"));
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "case.toml");
     return e.what();

@@ -12,10 +12,12 @@
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
 namespace pilempm {
 namespace {
 
+using namespace simulation;
 using testing::PathLengthElastic;
 
 const bool kRegistered = register_model(testing::path_length_elastic_registration());

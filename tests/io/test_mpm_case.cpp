@@ -12,15 +12,19 @@
 #include <vector>
 
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
-#include "pilempm/io/mpm_phase_control.hpp"
-#include "pilempm/io/mpm_tractions.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
+#include "pilempm/simulation/phase_control.hpp"
+#include "pilempm/simulation/tractions.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace simulation;
 
 // Line numbers below refer to this text (line 1 is `title`).
 const char* const kCase = R"(title = "test case"

@@ -24,9 +24,12 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace simulation;
 
 namespace fs = std::filesystem;
 using mpm::Geometry;

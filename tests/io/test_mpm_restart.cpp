@@ -12,9 +12,12 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace simulation;
 
 namespace fs = std::filesystem;
 

@@ -9,10 +9,12 @@
 #include <vector>
 
 #include "pilempm/core/error.hpp"
-#include "pilempm/scenario/centrifuge_scenario.hpp"
+#include "pilempm/scenario/centrifuge/centrifuge_scenario.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace scenario;
 
 double sin_deg(double degrees) {
   return std::sin(degrees * std::numbers::pi / 180.0);

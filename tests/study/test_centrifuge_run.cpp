@@ -23,6 +23,8 @@
 namespace pilempm {
 namespace {
 
+using namespace scenario;
+
 namespace fs = std::filesystem;
 
 CentrifugeScenario tiny_scenario() {

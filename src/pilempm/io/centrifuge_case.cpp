@@ -4,9 +4,12 @@
 #include <fmt/ranges.h>
 
 #include "pilempm/io/material_reader.hpp"
+#include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/toml_reader.hpp"
 
 namespace pilempm {
+
+using namespace scenario;
 
 namespace {
 
@@ -43,6 +46,10 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
       if (const toml::table* table = m.as_table()) s.material_tables.push_back(table_lines(*table));
   if (const toml::table* integrator = document["integrator"].as_table())
     s.integrator_table = table_lines(*integrator);
+  for (const std::string& name : catalog.names())
+    if (const MaterialSpec* material = catalog.find(name); !material->builtin)
+      s.materials.push_back(*material);
+  s.integrator = catalog.integrator();
 
   if (auto t = root.table("test")) {
     s.pile_diameter =
@@ -191,7 +198,8 @@ CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path) {
   return read_centrifuge_case_text(read_case_text(path), path.string());
 }
 
-MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario, const std::string& source_name) {
+simulation::MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario,
+                                           const std::string& source_name) {
   return read_mpm_case_text(centrifuge_mpm_case(scenario), source_name);
 }
 

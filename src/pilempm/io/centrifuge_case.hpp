@@ -8,18 +8,20 @@
 #include <string>
 #include <string_view>
 
-#include "pilempm/io/mpm_case.hpp"
-#include "pilempm/scenario/centrifuge_scenario.hpp"
+#include "pilempm/scenario/centrifuge/centrifuge_scenario.hpp"
+#include "pilempm/simulation/mpm_case.hpp"
 
 namespace pilempm {
 
 /// Reads a centrifuge case file (throws InputError).
-CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path);
+scenario::CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path);
 /// Reads centrifuge case text; `source_name` is what messages call the file.
-CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::string& source_name);
+scenario::CentrifugeScenario read_centrifuge_case_text(std::string_view text,
+                                                       const std::string& source_name);
 
 /// The MPM case of a scenario (read from the text centrifuge_mpm_case writes; `source_name`
 /// names it in messages).
-MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario, const std::string& source_name);
+simulation::MpmCase centrifuge_to_mpm_case(const scenario::CentrifugeScenario& scenario,
+                                           const std::string& source_name);
 
 }  // namespace pilempm

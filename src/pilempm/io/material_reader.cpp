@@ -20,32 +20,6 @@ std::unique_ptr<ParameterSource> TomlParameterSource::table(std::string_view key
   return std::make_unique<TomlParameterSource>(std::move(*table));
 }
 
-const HypoplasticMaterial& MaterialSpec::hypoplastic_material() const {
-  if (const HypoplasticMaterial* m = parameters_as<HypoplasticMaterial>()) return *m;
-  throw Error(fmt::format("material \"{}\" is {}, not hypoplastic", name, model));
-}
-
-MaterialSpec with_igs(const MaterialSpec& material, const std::optional<IgsChoice>& igs) {
-  const HypoplasticMaterial* hypoplastic = material.parameters_as<HypoplasticMaterial>();
-  if (hypoplastic == nullptr) return material;
-  HypoplasticMaterial changed = *hypoplastic;
-  changed.igs = igs;
-  MaterialSpec result = material;
-  result.parameters = std::make_shared<const ParametersOf<HypoplasticMaterial>>(changed);
-  return result;
-}
-
-MaterialSpec builtin_material(std::string_view set_name) {
-  MaterialSpec m;
-  m.name = std::string(set_name);
-  m.model = "hypoplastic";
-  m.builtin = true;
-  m.parameters = std::make_shared<const ParametersOf<HypoplasticMaterial>>(
-      HypoplasticMaterial{hypoplastic_set(set_name), "", std::nullopt});
-  m.origin = "built-in set";
-  return m;
-}
-
 IgsChoice read_igs(TableReader& reader, std::string_view key) {
   TomlParameterSource source(reader);
   return read_igs(static_cast<ParameterSource&>(source), key);
@@ -67,12 +41,6 @@ IntegratorSettings read_integrator(TableReader& t) {
     throw t.error_from(e);
   }
   return s;
-}
-
-ModelPtr make_model(const MaterialSpec& material, const std::optional<IgsChoice>& igs,
-                    const IntegratorSettings& integrator) {
-  const MaterialSpec effective = with_igs(material, igs);
-  return model_registry().at(material.model).make(*effective.parameters, integrator);
 }
 
 std::vector<MaterialSpec> MaterialCatalog::default_builtins() {

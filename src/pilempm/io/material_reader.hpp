@@ -14,35 +14,12 @@
 #include "pilempm/constitutive/hypoplastic/hypoplastic_material.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/constitutive/material_spec.hpp"
 #include "pilempm/constitutive/model_registry.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/io/toml_reader.hpp"
 
 namespace pilempm {
-
-/// One material: a built-in hypoplastic set or a [[material]] of a case file. Its parameters are
-/// of its model's own type (the registry's reader made them).
-struct MaterialSpec {
-  std::string name;
-  std::string model = "hypoplastic";  ///< the registered model's name
-  bool builtin = false;               ///< a named set of the library, not a [[material]] table
-  std::shared_ptr<const ModelParameters> parameters;
-  std::string note;
-  std::string origin;  ///< "built-in set" or "file:line"
-
-  /// The parameters as the model's type P (nullptr when the material is another model).
-  template <class P>
-  const P* parameters_as() const {
-    return pilempm::parameters_as<P>(parameters.get());
-  }
-  bool is_hypoplastic() const { return parameters_as<HypoplasticMaterial>() != nullptr; }
-  /// The hypoplastic material's parameters (an Error for another model).
-  const HypoplasticMaterial& hypoplastic_material() const;
-  const HypoplasticParameters& hypoplastic() const { return hypoplastic_material().parameters; }
-};
-
-/// The material with the given intergranular strain (hypoplastic materials; others unchanged).
-MaterialSpec with_igs(const MaterialSpec& material, const std::optional<IgsChoice>& igs);
 
 /// Reads an igs value of a case file (see the hypoplastic reader, read_igs).
 IgsChoice read_igs(TableReader& reader, std::string_view key);
@@ -91,17 +68,9 @@ class TomlParameterSource final : public ParameterSource {
   TableReader* reader_;
 };
 
-/// A built-in hypoplastic set as a material (throws InvalidValue for an unknown name).
-MaterialSpec builtin_material(std::string_view set_name);
-
 /// Reads an [integrator] table: scheme, tolerance, min_mean_stress_Pa, fixed_substeps,
 /// max_substeps, min_substep (all optional; the library's defaults otherwise).
 IntegratorSettings read_integrator(TableReader& table);
-
-/// Builds the model through the registry. `igs` applies to the hypoplastic model only (nullopt:
-/// no intergranular strain); the integrator settings likewise.
-ModelPtr make_model(const MaterialSpec& material, const std::optional<IgsChoice>& igs,
-                    const IntegratorSettings& integrator);
 
 /// The materials of one document: its [[material]] tables plus the built-in sets, and its
 /// [integrator] settings.

@@ -13,12 +13,16 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
-#include "pilempm/io/mpm_phase_control.hpp"
-#include "pilempm/io/mpm_tractions.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/output/format.hpp"
+#include "pilempm/simulation/body_force_means.hpp"
+#include "pilempm/simulation/explicit_scheme.hpp"
+#include "pilempm/simulation/phase_control.hpp"
+#include "pilempm/simulation/progress.hpp"
 
 namespace pilempm {
+
+using namespace simulation;
 
 namespace {
 
@@ -170,35 +174,6 @@ std::string mpm_bodies_header(const mpm::Solver& solver) {
   return header;
 }
 
-void MpmBodyForceMeans::add_step(const mpm::Solver& solver, double dt) {
-  impulse_.resize(static_cast<std::size_t>(solver.rigid_body_count()));
-  for (int b = 0; b < solver.rigid_body_count(); ++b) {
-    const mpm::RigidBodyForce& force = solver.rigid_body_force(b);
-    mpm::RigidBodyForce& sum = impulse_[static_cast<std::size_t>(b)];
-    sum.parts.resize(force.parts.size(), mpm::Vec2::Zero());
-    sum.total += dt * force.total;
-    for (std::size_t k = 0; k < force.parts.size(); ++k) sum.parts[k] += dt * force.parts[k];
-  }
-  elapsed_ += dt;
-}
-
-std::vector<mpm::RigidBodyForce> MpmBodyForceMeans::take(const mpm::Solver& solver) {
-  std::vector<mpm::RigidBodyForce> means;
-  for (int b = 0; b < solver.rigid_body_count(); ++b) {
-    if (elapsed_ > 0.0 && static_cast<std::size_t>(b) < impulse_.size()) {
-      mpm::RigidBodyForce mean = impulse_[static_cast<std::size_t>(b)];
-      mean.total /= elapsed_;
-      for (mpm::Vec2& part : mean.parts) part /= elapsed_;
-      means.push_back(std::move(mean));
-    } else {
-      means.push_back(solver.rigid_body_force(b));
-    }
-  }
-  impulse_.clear();
-  elapsed_ = 0.0;
-  return means;
-}
-
 std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::string>& body_names,
                             const std::string& phase,
                             const std::vector<mpm::RigidBodyForce>* forces) {
@@ -231,30 +206,6 @@ std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::st
   return rows;
 }
 
-MpmProgress::MpmProgress(std::ostream* out, double total_time, double min_interval_s)
-    : out_(out),
-      total_time_(total_time),
-      min_interval_(min_interval_s),
-      start_(std::chrono::steady_clock::now()) {}
-
-double MpmProgress::wall_seconds() const {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-}
-
-void MpmProgress::update(const std::string& phase, double phase_end, const mpm::Solver& solver,
-                         bool force) {
-  if (out_ == nullptr) return;
-  const double wall = wall_seconds();
-  if (!force && wall - last_print_ < min_interval_) return;
-  last_print_ = wall;
-  const double t = solver.time();
-  const std::string eta =
-      t > 0.0 ? fmt::format("{:.1f} s", wall * std::max(0.0, total_time_ - t) / t) : "?";
-  *out_ << fmt::format("mpm: phase {}: t = {:.6g} / {:.6g} s, {} steps, wall {:.1f} s, ETA {}\n",
-                       phase, t, phase_end, solver.steps(), wall, eta)
-        << std::flush;
-}
-
 std::string mpm_checkpoint_name(std::size_t phases_done, const std::string& phase) {
   std::string name = phase;
   for (char& ch : name)
@@ -270,40 +221,147 @@ constexpr const char* kEnergiesRecord = "energies.csv";
 constexpr const char* kBodiesRecord = "bodies.csv";
 constexpr const char* kSeriesRecord = "particles.pvd";  // "time<TAB>file relative to the folder"
 
+// The files of a run, written as the loop reaches their times: the VTU snapshots and their
+// series, energies.csv and bodies.csv (rewritten at every snapshot and at the end), checkpoints.
+class MpmOutputWriter final : public RunObserver {
+ public:
+  // `solver`: the scheme's state, whose next time step each row of energies.csv gives.
+  MpmOutputWriter(const MpmCase& c, const std::filesystem::path& out_dir, mpm::Solver& solver,
+                  MpmRunSummary& summary)
+      : case_(c),
+        solver_(solver),
+        out_dir_(out_dir),
+        absolute_out_(std::filesystem::absolute(out_dir)),
+        summary_(summary),
+        series_(absolute_out_ / "particles.pvd"),
+        initial_position_(solver.particles().position),
+        with_bodies_(!c.bodies.empty()),
+        energies_(mpm_energies_header(c.geometry)),
+        bodies_(with_bodies_ ? mpm_bodies_header(solver) : std::string()) {
+    std::map<std::string, int> distinct;
+    for (const std::string& name : c.material_names)
+      material_index_.push_back(
+          distinct.emplace(name, static_cast<int>(distinct.size())).first->second);
+    for (const MpmBody& b : c.bodies) body_names_.push_back(b.name);
+    summary_.pvd_file = out_dir / "particles.pvd";
+    summary_.energies_file = out_dir / "energies.csv";
+    if (with_bodies_) summary_.bodies_file = out_dir / "bodies.csv";
+  }
+
+  // The output of the run that wrote `restart` so far: its records, its initial positions.
+  void restore(const MpmCheckpointInfo& info, const std::filesystem::path& restart) {
+    if (info.initial_position.size() == initial_position_.size())
+      initial_position_ = info.initial_position;
+    auto record = [&](const char* name) {
+      const auto at = info.records.find(name);
+      return at == info.records.end() ? std::string() : at->second;
+    };
+    if (!record(kEnergiesRecord).empty()) energies_ = record(kEnergiesRecord);
+    if (with_bodies_ && !record(kBodiesRecord).empty()) bodies_ = record(kBodiesRecord);
+    const std::filesystem::path from = std::filesystem::absolute(restart).parent_path();
+    std::istringstream entries(record(kSeriesRecord));
+    std::string line;
+    while (std::getline(entries, line)) {
+      const auto tab = line.find('\t');
+      if (tab == std::string::npos) continue;
+      const double time = std::stod(line.substr(0, tab));
+      const std::filesystem::path file = (from / line.substr(tab + 1)).lexically_normal();
+      series_.add(time, file);
+      series_entries_.emplace_back(time, file);
+    }
+    vtu_count_ = series_entries_.size();
+  }
+
+  void run_start(const Scheme& /*scheme*/, std::size_t first_phase) override {
+    if (first_phase == 0) return;
+    // The checkpoint's records end with the rows and the snapshot of this time.
+    series_.write();
+    write_records();
+  }
+
+  void after_step(const Scheme& scheme, const MpmPhase& /*phase*/, double dt) override {
+    if (with_bodies_) force_means_.add_step(scheme.state(), dt);
+  }
+
+  void record(const Scheme& scheme, const MpmPhase& phase) override {
+    const mpm::Solver& solver = scheme.state();
+    energies_ += mpm_energies_row(solver, solver_.next_time_step());
+    if (with_bodies_) {
+      const std::vector<mpm::RigidBodyForce> means = force_means_.take(solver);
+      bodies_ += mpm_bodies_rows(solver, body_names_, phase.name, &means);
+    }
+  }
+
+  void snapshot(const Scheme& scheme, const MpmPhase& /*phase*/) override {
+    const mpm::Solver& solver = scheme.state();
+    const std::string name = fmt::format("particles_{:05d}.vtu", vtu_count_++);
+    const std::filesystem::path file = out_dir_ / name;
+    write_vtu(file, mpm_particle_cloud(solver, initial_position_, material_index_));
+    series_.add(solver.time(), absolute_out_ / name);
+    series_entries_.emplace_back(solver.time(), absolute_out_ / name);
+    series_.write();
+    write_records();
+    summary_.vtu_files.push_back(file);
+  }
+
+  void checkpoint(const Scheme& scheme, std::size_t phases_done, const MpmPhase& phase) override {
+    MpmCheckpointInfo info;
+    info.case_source = case_.source;
+    info.next_phase = static_cast<int>(phases_done);
+    info.phase_start = scheme.time();
+    info.initial_position = initial_position_;
+    info.records[kEnergiesRecord] = energies_;
+    if (with_bodies_) info.records[kBodiesRecord] = bodies_;
+    std::string entries;
+    for (const auto& [time, file] : series_entries_) {
+      entries += fmt::format("{:.17g}\t", time);
+      entries += file.lexically_relative(absolute_out_).generic_string();
+      entries += '\n';
+    }
+    info.records[kSeriesRecord] = entries;
+    const std::filesystem::path file = out_dir_ / mpm_checkpoint_name(phases_done, phase.name);
+    write_mpm_checkpoint(file, scheme.state(), info);
+    summary_.checkpoints.push_back(file);
+  }
+
+  void failed(const Scheme& /*scheme*/, const MpmPhase& /*phase*/) override { write_records(); }
+  void run_end(const Scheme& /*scheme*/) override { write_records(); }
+
+ private:
+  void write_records() {
+    write_file_atomically(summary_.energies_file, energies_);
+    if (with_bodies_) write_file_atomically(summary_.bodies_file, bodies_);
+  }
+
+  const MpmCase& case_;
+  mpm::Solver& solver_;
+  std::filesystem::path out_dir_, absolute_out_;
+  MpmRunSummary& summary_;
+  PvdSeries series_;
+  std::vector<std::pair<double, std::filesystem::path>> series_entries_;  // for checkpoints
+  std::vector<mpm::Vec2> initial_position_;
+  std::vector<int> material_index_;
+  std::vector<std::string> body_names_;
+  bool with_bodies_;
+  std::string energies_, bodies_;
+  std::size_t vtu_count_ = 0;
+  MpmBodyForceMeans force_means_;
+};
+
 }  // namespace
 
 MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_dir,
                            std::ostream* progress_stream, const std::filesystem::path& restart,
                            const MpmRunHooks& hooks) {
   prepare_output_directory(out_dir);
-  mpm::Solver solver = make_mpm_solver(c);
-  const std::vector<mpm::Vec2> traction_forces =
-      c.tractions.empty() ? std::vector<mpm::Vec2>{} : mpm_traction_forces(c, solver.particles());
-  std::vector<mpm::Vec2> initial_position = solver.particles().position;
-  std::vector<int> material_index;
-  std::map<std::string, int> distinct;
-  for (const std::string& name : c.material_names)
-    material_index.push_back(
-        distinct.emplace(name, static_cast<int>(distinct.size())).first->second);
-  std::vector<std::string> body_names;
-  for (const MpmBody& b : c.bodies) body_names.push_back(b.name);
-  const bool with_bodies = !c.bodies.empty();
-
+  ExplicitScheme scheme(c);
   MpmRunSummary summary;
-  summary.pvd_file = out_dir / "particles.pvd";
-  summary.energies_file = out_dir / "energies.csv";
-  if (with_bodies) summary.bodies_file = out_dir / "bodies.csv";
-  const std::filesystem::path absolute_out = std::filesystem::absolute(out_dir);
-  PvdSeries series(absolute_out / "particles.pvd");
-  std::vector<std::pair<double, std::filesystem::path>> series_entries;  // for checkpoints
-  std::string energies = mpm_energies_header(c.geometry);
-  std::string bodies = with_bodies ? mpm_bodies_header(solver) : std::string();
-  std::size_t vtu_count = 0;
-
+  MpmOutputWriter writer(c, out_dir, scheme.state(), summary);
   if (!restart.empty()) {
     // The case's solver takes the checkpoint's state; the material sets of the phases before
-    // apply. (The next phase's settings are set by the loop below: the checkpoint is taken at
-    // a phase end, and a phase start forgets the cached wave speeds either way.)
+    // apply. (The next phase's settings are set when it begins: the checkpoint is taken at a
+    // phase end, and a phase start forgets the cached wave speeds either way.)
+    mpm::Solver& solver = scheme.state();
     const MpmCheckpointInfo info = read_mpm_checkpoint(restart, solver);
     if (info.next_phase < 1 || static_cast<std::size_t>(info.next_phase) >= c.phases.size())
       throw InputError(restart.string(), 0, "--restart", restart.string(),
@@ -319,157 +377,14 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
     for (std::size_t k = 0; k < summary.first_phase; ++k)
       for (const MpmMaterialChange& change : c.phases[k].material_changes)
         solver.set_material(change.model, change.replacement);
-    if (info.initial_position.size() == initial_position.size())
-      initial_position = info.initial_position;
-    auto record = [&](const char* name) {
-      const auto at = info.records.find(name);
-      return at == info.records.end() ? std::string() : at->second;
-    };
-    if (!record(kEnergiesRecord).empty()) energies = record(kEnergiesRecord);
-    if (with_bodies && !record(kBodiesRecord).empty()) bodies = record(kBodiesRecord);
-    const std::filesystem::path from = std::filesystem::absolute(restart).parent_path();
-    std::istringstream entries(record(kSeriesRecord));
-    std::string line;
-    while (std::getline(entries, line)) {
-      const auto tab = line.find('\t');
-      if (tab == std::string::npos) continue;
-      const double time = std::stod(line.substr(0, tab));
-      const std::filesystem::path file = (from / line.substr(tab + 1)).lexically_normal();
-      series.add(time, file);
-      series_entries.emplace_back(time, file);
-    }
-    vtu_count = series_entries.size();
+    writer.restore(info, restart);
   }
-  double total_time = 0.0;
-  for (const MpmPhase& phase : c.phases) total_time += phase.duration;
-  MpmProgress progress(progress_stream, total_time);
-
-  auto write_records = [&] {
-    write_file_atomically(summary.energies_file, energies);
-    if (with_bodies) write_file_atomically(summary.bodies_file, bodies);
-  };
-  double last_rows = -1.0;
-  MpmBodyForceMeans force_means;
-  auto add_rows = [&](const std::string& phase) {
-    if (solver.time() == last_rows) return;
-    last_rows = solver.time();
-    energies += mpm_energies_row(solver, solver.next_time_step());
-    if (with_bodies) {
-      const std::vector<mpm::RigidBodyForce> means = force_means.take(solver);
-      bodies += mpm_bodies_rows(solver, body_names, phase, &means);
-    }
-  };
-  double last_snapshot = -1.0;
-  auto snapshot = [&] {
-    if (solver.time() == last_snapshot) return;
-    last_snapshot = solver.time();
-    const std::string name = fmt::format("particles_{:05d}.vtu", vtu_count++);
-    const std::filesystem::path file = out_dir / name;
-    write_vtu(file, mpm_particle_cloud(solver, initial_position, material_index));
-    series.add(solver.time(), absolute_out / name);
-    series_entries.emplace_back(solver.time(), absolute_out / name);
-    series.write();
-    write_records();
-    summary.vtu_files.push_back(file);
-  };
-  auto checkpoint = [&](std::size_t phases_done, const std::string& phase) {
-    MpmCheckpointInfo info;
-    info.case_source = c.source;
-    info.next_phase = static_cast<int>(phases_done);
-    info.phase_start = solver.time();
-    info.initial_position = initial_position;
-    info.records[kEnergiesRecord] = energies;
-    if (with_bodies) info.records[kBodiesRecord] = bodies;
-    std::string entries;
-    for (const auto& [time, file] : series_entries) {
-      entries += fmt::format("{:.17g}\t", time);
-      entries += file.lexically_relative(absolute_out).generic_string();
-      entries += '\n';
-    }
-    info.records[kSeriesRecord] = entries;
-    const std::filesystem::path file = out_dir / mpm_checkpoint_name(phases_done, phase);
-    write_mpm_checkpoint(file, solver, info);
-    summary.checkpoints.push_back(file);
-  };
-  if (restart.empty()) {
-    add_rows(c.phases.front().name);
-    snapshot();
-  } else {
-    // The checkpoint's records end with the rows and the snapshot of this time.
-    last_rows = last_snapshot = solver.time();
-    series.write();
-    write_records();
-  }
-
-  for (std::size_t k = summary.first_phase; k < c.phases.size(); ++k) {
-    const MpmPhase& phase = c.phases[k];
-    MpmPhaseEnd end;
-    end.phase = phase.name;
-    try {
-      solver.set_settings(phase_settings(c, phase));
-      MpmPhaseControl control(c, k, solver);
-      control.start(traction_forces);
-      const double phase_start = control.start_time();
-      const double phase_end = control.end_time();
-      const double tolerance = 1e-6 * std::min(phase.energy_interval, phase.output_interval);
-      // The k-th time of a series in this phase (counted, not summed, so that it does not
-      // drift); one within the tolerance of the phase end is the phase end.
-      auto series_time = [&](double interval, long count) {
-        const double t = phase_start + static_cast<double>(count) * interval;
-        return t >= phase_end - tolerance ? phase_end : t;
-      };
-      long output_count = 1, energy_count = 1;
-      end.reason = control.stop_reason();  // met at the start already
-      while (end.reason.empty()) {
-        const double next_output = series_time(phase.output_interval, output_count);
-        const double next_energy = series_time(phase.energy_interval, energy_count);
-        const double target = std::min(next_output, next_energy);
-        const MpmStepPlan plan = control.plan_step(target);
-        const double step_start = solver.time();
-        if (plan.own_step)
-          solver.step();
-        else
-          solver.run_until(plan.end);
-        control.record_step(solver.time() - step_start);
-        if (with_bodies) force_means.add_step(solver, solver.time() - step_start);
-        if (hooks.after_step) hooks.after_step(solver, phase, solver.time() - step_start);
-        progress.update(phase.name, phase_end, solver);
-        end.reason = control.stop_reason(plan.landing_rule);
-        if (!end.reason.empty() || plan.own_step || plan.landing_rule >= 0) continue;
-        // At the target time.
-        if (next_energy == target) {
-          add_rows(phase.name);
-          ++energy_count;
-        }
-        if (next_output == target) {
-          snapshot();
-          ++output_count;
-        }
-        if (target == phase_end) end.reason = "duration_s";
-      }
-      add_rows(phase.name);
-      snapshot();
-      if (hooks.phase_end) hooks.phase_end(solver, phase);
-    } catch (const InputError&) {
-      throw;
-    } catch (const Error& e) {
-      write_records();
-      throw Error(
-          fmt::format("phase \"{}\" at t = {:.6g} s: {}", phase.name, solver.time(), e.what()));
-    }
-    if (phase.checkpoint) checkpoint(k + 1, phase.name);
-    end.time = solver.time();
-    end.steps = solver.steps();
-    progress.update(phase.name, end.time, solver, /*force=*/true);
-    if (progress_stream != nullptr)
-      *progress_stream << fmt::format("mpm: phase {} ended at t = {:.6g} s, step {}: {}\n",
-                                      phase.name, end.time, end.steps, end.reason)
-                       << std::flush;
-    summary.phase_ends.push_back(std::move(end));
-  }
-  write_records();
-  summary.steps = solver.steps();
-  summary.time = solver.time();
+  ProgressObserver progress(progress_stream, hooks.progress_on_terminal);
+  std::vector<RunObserver*> observers{&writer, &progress};
+  observers.insert(observers.end(), hooks.observers.begin(), hooks.observers.end());
+  summary.phase_ends = run_phases(c, scheme, summary.first_phase, observers);
+  summary.steps = scheme.steps();
+  summary.time = scheme.time();
   summary.wall_seconds = progress.wall_seconds();
   return summary;
 }

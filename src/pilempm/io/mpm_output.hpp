@@ -1,18 +1,19 @@
 #pragma once
 // Output of MPM runs (docs/mpm-case-files.md, "Output"): a VTU snapshot of the particles per
 // output time with a ParaView series (particles.pvd), the energy account as CSV
-// (energies.csv), the rigid bodies' motion and forces as CSV (bodies.csv), and a progress line
-// on stderr; and the run loop over the phases of a case. Files are written atomically.
-#include <chrono>
+// (energies.csv), the rigid bodies' motion and forces as CSV (bodies.csv) and checkpoints, as
+// an observer of the run loop (simulation/run_loop.hpp, which decides when). Files are written
+// atomically.
 #include <filesystem>
 #include <functional>
 #include <ostream>
 #include <string>
 #include <vector>
 
-#include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/vtu_writer.hpp"
 #include "pilempm/mpm/solver.hpp"
+#include "pilempm/simulation/mpm_case.hpp"
+#include "pilempm/simulation/run_loop.hpp"
 
 namespace pilempm {
 
@@ -44,47 +45,6 @@ std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::st
                             const std::string& phase,
                             const std::vector<mpm::RigidBodyForce>* forces = nullptr);
 
-/// The contact forces on the bodies averaged over time between two rows of bodies.csv,
-/// Σ F Δt / Σ Δt over the steps: the force of a single step carries the noise of the nodal
-/// contact (nodes coming into contact), the mean over an interval is what a load cell shows.
-class MpmBodyForceMeans {
- public:
-  /// Adds the solver's last step, of length `dt` [s].
-  void add_step(const mpm::Solver& solver, double dt);
-  /// The means since the last take() (the last step's forces when no time has passed), and a
-  /// new start.
-  std::vector<mpm::RigidBodyForce> take(const mpm::Solver& solver);
-
- private:
-  std::vector<mpm::RigidBodyForce> impulse_;
-  double elapsed_ = 0.0;
-};
-
-/// A progress line on a stream, at most one per `min_interval` of wall time.
-class MpmProgress {
- public:
-  MpmProgress(std::ostream* out, double total_time, double min_interval_s = 0.5);
-  /// Prints when the last line is older than the interval (or always when `force`).
-  void update(const std::string& phase, double phase_end, const mpm::Solver& solver,
-              bool force = false);
-  double wall_seconds() const;
-
- private:
-  std::ostream* out_;
-  double total_time_;
-  double min_interval_;
-  std::chrono::steady_clock::time_point start_;
-  double last_print_ = 0.0;  // the first line after one interval
-};
-
-/// How a phase of a run ended.
-struct MpmPhaseEnd {
-  std::string phase;
-  double time = 0.0;   ///< [s]
-  long steps = 0;      ///< the solver's step count then
-  std::string reason;  ///< "duration_s" or the stop rule met, with the value reached
-};
-
 /// What a run did.
 struct MpmRunSummary {
   long steps = 0;
@@ -92,20 +52,21 @@ struct MpmRunSummary {
   double wall_seconds = 0.0;
   std::vector<std::filesystem::path> vtu_files;                ///< written by this run
   std::filesystem::path pvd_file, energies_file, bodies_file;  ///< bodies_file: empty if none
-  std::vector<MpmPhaseEnd> phase_ends;             ///< the phases this run ran, in order
-  std::vector<std::filesystem::path> checkpoints;  ///< written by this run
-  std::size_t first_phase = 0;                     ///< > 0 when restarted
+  std::vector<simulation::MpmPhaseEnd> phase_ends;  ///< the phases this run ran, in order
+  std::vector<std::filesystem::path> checkpoints;   ///< written by this run
+  std::size_t first_phase = 0;                      ///< > 0 when restarted
 };
 
-/// What a caller may do during a run, besides the files (both may be empty): after every step
-/// (the solver, the phase, the step's length), and at the end of every phase (after its last
-/// snapshot, before its checkpoint).
+/// What a caller may do during a run, besides the files: observers of the run loop
+/// (simulation/run_loop.hpp), told after the files' own writer and the progress line.
 struct MpmRunHooks {
-  std::function<void(const mpm::Solver&, const MpmPhase&, double)> after_step;
-  std::function<void(const mpm::Solver&, const MpmPhase&)> phase_end;
+  std::vector<simulation::RunObserver*> observers;
+  /// The progress stream is a terminal: one line updated in place (else a line every 10 s).
+  bool progress_on_terminal = false;
 };
 
-/// Runs the phases of a case, writing into `out_dir` (created if needed): particles_NNNNN.vtu,
+/// Runs the phases of a case with the explicit scheme (simulation::run_phases), writing into
+/// `out_dir` (created if needed): particles_NNNNN.vtu,
 /// particles.pvd, energies.csv, with rigid bodies bodies.csv, and at the end of each phase that
 /// asks for it checkpoint_NN_<phase>.h5 (NN: the number of phases done). Progress lines and the
 /// end of each phase go to `progress` (nullptr: none). With `restart` (a checkpoint file), the
@@ -113,8 +74,9 @@ struct MpmRunHooks {
 /// case's materials (with the material changes of the phases before), and its output files
 /// start with the records the checkpoint holds. Throws Error naming the phase when the solver
 /// fails; what was written up to then stays valid.
-MpmRunSummary run_mpm_case(const MpmCase& mpm_case, const std::filesystem::path& out_dir,
-                           std::ostream* progress, const std::filesystem::path& restart = {},
+MpmRunSummary run_mpm_case(const simulation::MpmCase& mpm_case,
+                           const std::filesystem::path& out_dir, std::ostream* progress,
+                           const std::filesystem::path& restart = {},
                            const MpmRunHooks& hooks = {});
 
 /// The file name of the checkpoint after `phases_done` phases, the last one named `phase`:

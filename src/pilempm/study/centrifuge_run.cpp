@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 #include <limits>
 #include <numbers>
@@ -14,131 +15,27 @@
 #include "pilempm/constitutive/material_state.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
-#include "pilempm/io/mpm_phase_control.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/output/format.hpp"
 #include "pilempm/io/output/json_writer.hpp"
 #include "pilempm/io/vtu_writer.hpp"
+#include "pilempm/simulation/body_force_means.hpp"
+#include "pilempm/simulation/phase_control.hpp"
+#include "pilempm/simulation/run_loop.hpp"
 #include "pilempm/study/figures.hpp"
 #include "pilempm/study/plotting.hpp"
 #include "pilempm/study/quick_centrifuge_case.hpp"
 
 namespace pilempm {
 
+using namespace simulation;
+using namespace scenario;
+
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-bool starts_with(const std::string& text, const std::string& prefix) {
-  return text.rfind(prefix, 0) == 0;
-}
-
-bool is_installation(const std::string& phase) {
-  return starts_with(phase, "installation");
-}
-
-// One row of pile.csv, as numbers.
-struct PileRow {
-  double time = 0.0;
-  std::string phase;
-  double displacement = 0.0;                      // pile, down positive [m]
-  double phase_displacement = 0.0;                // since the phase start, down positive [m]
-  double tip_depth = 0.0;                         // below the sand surface [m]
-  double head = 0.0, tip = 0.0, shaft = 0.0;      // [N]
-  double base_reaction = 0.0, soil_weight = 0.0;  // [N]
-  double kinetic = 0.0, pile_work = 0.0;          // [J]
-  double momentum_rate = 0.0;  // the sand's vertical momentum (scaled mass): mean dP/dt [N]
-  double damping = 0.0;        // the local damping's vertical force on the sand, mean [N]
-
-  // F_head − (R_base − W): zero in static equilibrium, D − dP/dt of the sand in general.
-  double equilibrium_residual() const { return head - (base_reaction - soil_weight); }
-  // The sand's momentum balance dP/dt = R_base + D − W − F_head, as residual + dP/dt − D: zero
-  // when every force on the sand is booked.
-  double force_book_closure() const { return equilibrium_residual() + momentum_rate - damping; }
-};
-
-// Records pile.csv during the run: one row per record interval of pile travel, and at every
-// phase end, each with the forces averaged over the time since the previous row.
-class PileRecorder {
- public:
-  PileRecorder(const CentrifugeScenario& s, double factor)
-      : s_(s), factor_(factor), interval_(s.record_interval_D * s.pile_diameter) {}
-
-  void after_step(const mpm::Solver& solver, const MpmPhase& phase, double dt) {
-    means_.add_step(solver, dt);
-    reaction_impulse_ += dt * solver.boundary_reaction();
-    damping_impulse_ += dt * solver.damping_force();
-    elapsed_ += dt;
-    // Installation: a row per record interval; the short relaxation and load test: ten.
-    const double interval = is_installation(phase.name) ? interval_ : 0.1 * interval_;
-    if (phase.name != "initial-stress" &&
-        std::abs(pile_y(solver) - last_row_y_) >= interval * (1.0 - 1e-9))
-      add_row(solver, phase.name);
-  }
-
-  void phase_end(const mpm::Solver& solver, const MpmPhase& phase) {
-    if (elapsed_ > 0.0) add_row(solver, phase.name);
-    phase_start_y_ = pile_y(solver);
-  }
-
-  const std::vector<PileRow>& rows() const { return rows_; }
-
- private:
-  static double pile_y(const mpm::Solver& solver) {
-    return solver.rigid_body(0).displacement().y();
-  }
-
-  void add_row(const mpm::Solver& solver, const std::string& phase) {
-    const std::vector<mpm::RigidBodyForce> forces = means_.take(solver);
-    const mpm::RigidBodyForce& f = forces.at(0);
-    PileRow row;
-    row.time = solver.time();
-    row.phase = phase;
-    const double y = pile_y(solver);
-    row.displacement = 0.0 - y;  // 0 - y: no "-0" in the file
-    row.phase_displacement = 0.0 - (y - phase_start_y_);
-    row.tip_depth = s_.wished_in_place_D * s_.pile_diameter - y;
-    row.head = factor_ * f.total.y();
-    row.tip = f.parts.size() > 0 ? factor_ * f.parts[0].y() : 0.0;
-    row.shaft = f.parts.size() > 1 ? factor_ * f.parts[1].y() : 0.0;
-    row.base_reaction = elapsed_ > 0.0 ? factor_ * reaction_impulse_.y() / elapsed_ : 0.0;
-    row.damping = elapsed_ > 0.0 ? factor_ * damping_impulse_.y() / elapsed_ : 0.0;
-    if (!soil_weight_) {  // the particles and their masses do not change
-      double mass = 0.0;
-      for (double m : solver.particles().mass) mass += m;
-      soil_weight_ = factor_ * mass * s_.gravity * s_.g_level;
-    }
-    row.soil_weight = *soil_weight_;
-    row.kinetic = factor_ * solver.energies().kinetic;
-    row.pile_work = factor_ * solver.energies().contact_work;
-    // The sand's vertical momentum with the inertial (scaled) mass; it starts at rest at t = 0.
-    const mpm::Particles& particles = solver.particles();
-    double momentum = 0.0;
-    for (std::size_t p = 0; p < particles.size(); ++p)
-      momentum += particles.mass[p] * particles.velocity[p].y();
-    momentum *= factor_ * solver.settings().mass_scaling;
-    row.momentum_rate = elapsed_ > 0.0 ? (momentum - momentum_) / elapsed_ : 0.0;
-    momentum_ = momentum;
-    rows_.push_back(row);
-    reaction_impulse_ = damping_impulse_ = mpm::Vec2::Zero();
-    elapsed_ = 0.0;
-    last_row_y_ = y;
-  }
-
-  const CentrifugeScenario& s_;
-  double factor_;
-  double interval_;
-  MpmBodyForceMeans means_;
-  mpm::Vec2 reaction_impulse_ = mpm::Vec2::Zero();
-  mpm::Vec2 damping_impulse_ = mpm::Vec2::Zero();
-  double elapsed_ = 0.0;
-  double last_row_y_ = 0.0;
-  double phase_start_y_ = 0.0;
-  double momentum_ = 0.0;              // [N s], at the last row
-  std::optional<double> soil_weight_;  // [N], summed at the first row
-  std::vector<PileRow> rows_;
-};
 
 std::string pile_csv(const std::vector<PileRow>& rows, double D) {
   const double tip_area = std::numbers::pi * 0.25 * D * D;
@@ -193,49 +90,41 @@ std::string fields_csv(const mpm::Solver& solver, double surface) {
   return text;
 }
 
-// The K0 check: σ_v against ρ N g z after the initial-stress phase, beyond 2 D from the pile.
-void initial_stress_check(const CentrifugeScenario& s, const mpm::Solver& solver,
-                          CentrifugeSummary& summary) {
-  const double unit = s.sand_density() * s.g_level * s.gravity;  // [Pa/m]
-  const double H = s.sand_height();
-  double worst = 0.0, ratio_sum = 0.0;
-  long count = 0;
-  const mpm::Particles& particles = solver.particles();
-  for (std::size_t p = 0; p < particles.size(); ++p) {
-    if (particles.position[p].x() < 2.0 * s.pile_diameter) continue;
-    const double z = H - particles.position[p].y();
-    const double sigma_v = -particles.state[p].stress[k22];
-    worst = std::max(worst, std::abs(sigma_v - unit * z) / (unit * H));
-    if (z > s.pile_diameter) {
-      ratio_sum += sigma_v / (unit * z);
-      ++count;
-    }
-  }
-  summary.initial_stress_error = worst;
-  summary.initial_stress_ratio = count > 0 ? ratio_sum / static_cast<double>(count) : kNaN;
-}
+// The fields after the initial stress (the reference positions, and the K0 line on the progress
+// stream), at the snapshot depths and at the ends of installation and load test.
+class FieldWriter final : public RunObserver {
+ public:
+  FieldWriter(const CentrifugeScenario& s, const std::filesystem::path& out_dir,
+              std::ostream* progress, CentrifugeSummary& summary)
+      : s_(s), out_dir_(out_dir), progress_(progress), summary_(summary) {}
 
-// The largest |Σ quantity Δu| / Σ head Δu over consecutive windows of `window` of pile travel u
-// during installation, among the windows whose mean head force exceeds `threshold` (NaN if none).
-template <class Quantity>
-double max_window_ratio(const std::vector<PileRow>& rows, double window, double threshold,
-                        const Quantity& quantity) {
-  double worst = kNaN, head = 0.0, sum = 0.0, travel = 0.0, previous = 0.0;
-  for (const PileRow& r : rows) {
-    if (!is_installation(r.phase)) continue;
-    const double step = r.displacement - previous;
-    previous = r.displacement;
-    if (step <= 0.0) continue;
-    head += r.head * step;
-    sum += quantity(r) * step;
-    travel += step;
-    if (travel < window * (1.0 - 1e-6)) continue;
-    const double ratio = std::abs(sum) / head;
-    if (head / travel > threshold && !(ratio <= worst)) worst = ratio;  // NaN: the first window
-    head = sum = travel = 0.0;
+  void phase_end(const Scheme& scheme, const MpmPhase& phase) override {
+    const mpm::Solver& solver = scheme.state();
+    if (phase.role == MpmPhaseRole::initial_stress) {
+      reference_position_ = solver.particles().position;
+      if (progress_ != nullptr)
+        *progress_ << fmt::format(
+            "centrifuge: K0 stress: max |σv − ρNgz| / ρNgH = {:.2f} %, mean σv / ρNgz = {:.4f}\n",
+            100.0 * summary_.initial_stress_error, summary_.initial_stress_ratio);
+      return;
+    }
+    if (phase.role != MpmPhaseRole::installation && phase.role != MpmPhaseRole::load_test) return;
+    const std::string stem = "fields_" + phase.name;
+    write_file_atomically(out_dir_ / (stem + ".csv"), fields_csv(solver, s_.sand_height()));
+    std::vector<int> material_index(solver.materials().size());
+    for (std::size_t k = 0; k < material_index.size(); ++k) material_index[k] = static_cast<int>(k);
+    write_vtu(out_dir_ / (stem + ".vtu"),
+              mpm_particle_cloud(solver, reference_position_, material_index));
+    summary_.field_files.push_back(stem + ".csv");
   }
-  return worst;
-}
+
+ private:
+  const CentrifugeScenario& s_;
+  std::filesystem::path out_dir_;
+  std::ostream* progress_;
+  CentrifugeSummary& summary_;
+  std::vector<mpm::Vec2> reference_position_;  // after the K0 phase
+};
 
 std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummary& r) {
   auto value = [](double v, const char* format) { return shown_number(v, format); };
@@ -300,6 +189,10 @@ FigureSpec field_figure(const CentrifugeScenario& s, const std::string& phase) {
 
 std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
   std::vector<FigureSpec> figures;
+  const std::vector<ScenarioPhase> phases = scenario_phases(s);
+  std::string last_installation;  // labels the forces, once for the split installation
+  for (const ScenarioPhase& phase : phases)
+    if (phase.role == MpmPhaseRole::installation) last_installation = phase.name;
   if (s.installation_D > 0.0) {
     FigureSpec f;
     f.file = "installation.png";
@@ -316,25 +209,26 @@ std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
     for (auto [column, label, colour] : {std::tuple{"head_force_N", "head", "C0"},
                                          {"tip_force_N", "tip", "C1"},
                                          {"shaft_force_N", "shaft", "C2"}})
-      for (const std::string& phase : scenario_phase_names(s))
-        if (is_installation(phase))
-          force.series.push_back(curve("pile.csv", {{"phase", phase}}, "pile_displacement_mm",
-                                       column, phase == "installation" ? label : "",
+      for (const ScenarioPhase& phase : phases)
+        if (phase.role == MpmPhaseRole::installation)
+          force.series.push_back(curve("pile.csv", {{"phase", phase.name}}, "pile_displacement_mm",
+                                       column, phase.name == last_installation ? label : "",
                                        SeriesStyle{colour, "-", "", 1.2, 0}));
     f.panels.push_back(force);
     PanelSpec tip;
     tip.title = "tip stress against tip depth";
     tip.x.label = "mean normal stress on the tip [MPa]";
     tip.y.label = "tip depth [D]";
-    for (const std::string& phase : scenario_phase_names(s))
-      if (is_installation(phase))
-        tip.series.push_back(curve("pile.csv", {{"phase", phase}}, "tip_stress_MPa", "tip_depth_D",
-                                   "", SeriesStyle{"C3", "-", "", 1.2, 0}));
+    for (const ScenarioPhase& phase : phases)
+      if (phase.role == MpmPhaseRole::installation)
+        tip.series.push_back(curve("pile.csv", {{"phase", phase.name}}, "tip_stress_MPa",
+                                   "tip_depth_D", "", SeriesStyle{"C3", "-", "", 1.2, 0}));
     tip.legend = "none";
     f.panels.push_back(tip);
     figures.push_back(f);
   }
-  if (s.load_test_D > 0.0) {
+  for (const ScenarioPhase& phase : phases) {
+    if (phase.role != MpmPhaseRole::load_test) continue;
     FigureSpec f;
     f.file = "load_test.png";
     f.title = s.title + ": static load test";
@@ -344,13 +238,14 @@ std::vector<FigureSpec> run_figures(const CentrifugeScenario& s) {
     for (auto [column, label, colour] : {std::tuple{"head_force_N", "head", "C0"},
                                          {"tip_force_N", "tip", "C1"},
                                          {"shaft_force_N", "shaft", "C2"}})
-      panel.series.push_back(curve("pile.csv", {{"phase", "load-test"}}, "phase_displacement_mm",
+      panel.series.push_back(curve("pile.csv", {{"phase", phase.name}}, "phase_displacement_mm",
                                    column, label, SeriesStyle{colour, "-", "", 1.4, 0}));
     f.panels.push_back(panel);
     figures.push_back(f);
   }
-  for (const std::string& phase : scenario_phase_names(s))
-    if (is_installation(phase) || phase == "load-test") figures.push_back(field_figure(s, phase));
+  for (const ScenarioPhase& phase : phases)
+    if (phase.role == MpmPhaseRole::installation || phase.role == MpmPhaseRole::load_test)
+      figures.push_back(field_figure(s, phase.name));
   return figures;
 }
 
@@ -468,7 +363,7 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
                                  const std::filesystem::path& out_dir, std::ostream* progress,
                                  const CentrifugeRunOptions& options) {
   const std::string mpm_text = centrifuge_mpm_case(s);
-  const MpmCase mpm_case = read_mpm_case_text(mpm_text, (out_dir / "mpm_case.toml").string());
+  const MpmCase mpm_case = centrifuge_case(s, (out_dir / "mpm_case.toml").string());
   prepare_output_directory(out_dir);
   if (!case_text.empty()) write_file_atomically(out_dir / "case.toml", case_text);
   write_file_atomically(out_dir / "mpm_case.toml", mpm_text);
@@ -476,101 +371,18 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
   CentrifugeSummary summary;
   summary.title = s.title;
   const double D = s.pile_diameter;
-  const double factor = mpm_full_body_factor(mpm_case.geometry);
-  PileRecorder recorder(s, factor);
-  std::vector<mpm::Vec2> reference_position;  // after the K0 phase
+  PileRecorder recorder(s, mpm_full_body_factor(mpm_case.geometry));
+  CentrifugeChecks checks(s, summary);
+  FieldWriter fields(s, out_dir, progress, summary);
   MpmRunHooks hooks;
-  hooks.after_step = [&](const mpm::Solver& solver, const MpmPhase& phase, double dt) {
-    recorder.after_step(solver, phase, dt);
-  };
-  summary.min_radius_mm = kNaN;
-  hooks.phase_end = [&](const mpm::Solver& solver, const MpmPhase& phase) {
-    recorder.phase_end(solver, phase);
-    // No particle passes through the pile, none crosses the axis.
-    std::size_t inside = 0;
-    double min_radius = std::numeric_limits<double>::infinity();
-    const double cell = D / s.cells_per_D;
-    for (const mpm::Vec2& x : solver.particles().position) {
-      const double distance = solver.rigid_body(0).signed_distance(x);
-      if (distance < -cell) ++inside;
-      summary.max_penetration_cells = std::max(summary.max_penetration_cells, -distance / cell);
-      min_radius = std::min(min_radius, x.x());
-    }
-    summary.particles_in_pile = std::max(summary.particles_in_pile, inside);
-    if (!(1e3 * min_radius >= summary.min_radius_mm)) summary.min_radius_mm = 1e3 * min_radius;
-    if (phase.name == "initial-stress") {
-      initial_stress_check(s, solver, summary);
-      summary.particles = solver.particles().size();
-      reference_position = solver.particles().position;
-      if (progress != nullptr)
-        *progress << fmt::format(
-            "centrifuge: K0 stress: max |σv − ρNgz| / ρNgH = {:.2f} %, mean σv / ρNgz = {:.4f}\n",
-            100.0 * summary.initial_stress_error, summary.initial_stress_ratio);
-      return;
-    }
-    // The fields at the snapshot depths and the ends of installation and load test.
-    if (!is_installation(phase.name) && phase.name != "load-test") return;
-    const std::string stem = "fields_" + phase.name;
-    write_file_atomically(out_dir / (stem + ".csv"), fields_csv(solver, s.sand_height()));
-    std::vector<int> material_index(solver.materials().size());
-    for (std::size_t k = 0; k < material_index.size(); ++k) material_index[k] = static_cast<int>(k);
-    write_vtu(out_dir / (stem + ".vtu"),
-              mpm_particle_cloud(solver, reference_position, material_index));
-    summary.field_files.push_back(stem + ".csv");
-  };
-
+  hooks.observers = {&recorder, &checks, &fields};
+  hooks.progress_on_terminal = options.progress_on_terminal;
   const MpmRunSummary run = run_mpm_case(mpm_case, out_dir / "mpm", progress, {}, hooks);
   summary.steps = run.steps;
   summary.wall_seconds = run.wall_seconds;
   const std::vector<PileRow>& rows = recorder.rows();
   write_file_atomically(out_dir / "pile.csv", pile_csv(rows, D));
-
-  // The figures of the summary.
-  summary.installation_head_force = summary.installation_tip_depth_D = kNaN;
-  summary.peak_tip_stress_MPa = summary.peak_tip_stress_depth_D = kNaN;
-  summary.relaxation_travel_mm = summary.capacity = summary.load_test_displacement_mm = kNaN;
-  summary.equilibrium_error = summary.equilibrium_error_1D = summary.equilibrium_closure = kNaN;
-  summary.max_kinetic_to_work = kNaN;
-  const double tip_area = std::numbers::pi * 0.25 * D * D;
-  const double cell = D / s.cells_per_D;
-  double end_displacement = 0.0;
-  for (const PileRow& r : rows)
-    if (is_installation(r.phase)) end_displacement = r.displacement;
-  double sum = 0.0, weight = 0.0, last_displacement = -1.0;
-  for (const PileRow& r : rows) {
-    if (is_installation(r.phase)) {
-      const double stress = r.tip / tip_area / 1e6;
-      if (!(stress <= summary.peak_tip_stress_MPa)) {
-        summary.peak_tip_stress_MPa = stress;
-        summary.peak_tip_stress_depth_D = r.tip_depth / D;
-      }
-      const double travel = r.displacement - std::max(last_displacement, 0.0);
-      if (r.displacement >= end_displacement - cell - 1e-12 && travel > 0.0) {
-        sum += r.head * travel;
-        weight += travel;
-      }
-      if (r.pile_work > 0.0 && r.displacement >= D)
-        summary.max_kinetic_to_work =
-            std::max(std::isfinite(summary.max_kinetic_to_work) ? summary.max_kinetic_to_work : 0.0,
-                     r.kinetic / r.pile_work);
-      last_displacement = r.displacement;
-      summary.installation_tip_depth_D = r.tip_depth / D;
-    }
-    if (r.phase == "relaxation") summary.relaxation_travel_mm = -1e3 * r.phase_displacement;
-    if (r.phase == "load-test") {
-      summary.capacity = r.head;
-      summary.load_test_displacement_mm = 1e3 * r.phase_displacement;
-    }
-  }
-  if (weight > 0.0) summary.installation_head_force = sum / weight;
-  if (std::isfinite(summary.installation_head_force)) {
-    const auto residual = [](const PileRow& r) { return r.equilibrium_residual(); };
-    const double threshold = 0.5 * summary.installation_head_force;
-    summary.equilibrium_error = max_window_ratio(rows, cell, threshold, residual);
-    summary.equilibrium_error_1D = max_window_ratio(rows, D, threshold, residual);
-    summary.equilibrium_closure = max_window_ratio(
-        rows, cell, threshold, [](const PileRow& r) { return r.force_book_closure(); });
-  }
+  summarise_pile(s, rows, summary);
 
   std::vector<FigureSpec> figures = run_figures(s);
   for (const FigureSpec& f : figures) summary.figures.push_back(f.file);

@@ -18,6 +18,8 @@
 
 namespace pilempm {
 
+using namespace scenario;
+
 namespace {
 
 std::string stem(const std::string& file) {

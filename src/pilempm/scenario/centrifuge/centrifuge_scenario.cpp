@@ -1,15 +1,19 @@
-#include "pilempm/scenario/centrifuge_scenario.hpp"
+#include "pilempm/scenario/centrifuge/centrifuge_scenario.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <limits>
 #include <numbers>
 
 #include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
 #include "pilempm/core/error.hpp"
+#include "pilempm/core/tensor.hpp"
+#include "pilempm/mpm/grid.hpp"
 
-namespace pilempm {
+namespace pilempm::scenario {
 
 namespace {
 
@@ -118,36 +122,58 @@ void validate(const CentrifugeScenario& s) {
             "a built-in set or a [[material]] table of the file");
 }
 
-std::vector<std::string> scenario_phase_names(const CentrifugeScenario& s) {
-  std::vector<std::string> names{"initial-stress"};
+std::vector<ScenarioPhase> scenario_phases(const CentrifugeScenario& s) {
+  using simulation::MpmPhaseRole;
+  std::vector<ScenarioPhase> phases{{"initial-stress", MpmPhaseRole::initial_stress}};
   if (s.installation_D > 0.0) {
     const std::vector<double> stops = installation_stops_D(s);
     for (std::size_t k = 0; k + 1 < stops.size(); ++k)
-      names.push_back("installation-to-" + depth_label(stops[k]));
-    names.emplace_back("installation");
-    if (s.relaxation) names.emplace_back("relaxation");
+      phases.push_back({"installation-to-" + depth_label(stops[k]), MpmPhaseRole::installation});
+    phases.push_back({"installation", MpmPhaseRole::installation});
+    if (s.relaxation) phases.push_back({"relaxation", MpmPhaseRole::relaxation});
   }
-  if (s.load_test_D > 0.0) names.emplace_back("load-test");
+  if (s.load_test_D > 0.0) phases.push_back({"load-test", MpmPhaseRole::load_test});
+  return phases;
+}
+
+std::vector<std::string> scenario_phase_names(const CentrifugeScenario& s) {
+  std::vector<std::string> names;
+  for (const ScenarioPhase& phase : scenario_phases(s)) names.push_back(phase.name);
   return names;
 }
 
-std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
-  validate(s);
+namespace {
+
+// The grid of the scenario: the cell size of the fine zone, the sand and the container, and the
+// fine band in y, from below the deepest tip to the top of the grid, with the sand surface on a
+// grid line and at least two cells of graded grid below it.
+struct ScenarioGrid {
+  double h, H, R, band_bottom, top, fine_radius;
+};
+
+ScenarioGrid scenario_grid(const CentrifugeScenario& s) {
   const double D = s.pile_diameter;
   const double h = D / s.cells_per_D;
   const double H = s.sand_height();
-  const double R = s.container_radius();
   const double deepest = s.wished_in_place_D + s.installation_D;
-
-  // The fine band in y: from below the deepest tip to the top of the grid, with the sand
-  // surface on a grid line; at least two cells of graded grid stay below it.
   const int cells_above = static_cast<int>(std::ceil(s.headroom_D * s.cells_per_D - 1e-9));
   int cells_below =
       static_cast<int>(std::ceil((deepest + s.fine_depth_below_tip_D) * s.cells_per_D - 1e-9));
   cells_below = std::min(cells_below, static_cast<int>(std::floor(H / h + 1e-9)) - 2);
-  const double band_bottom = H - cells_below * h;
-  const double top = H + cells_above * h;
-  const double fine_radius = std::round(s.fine_radius_D * s.cells_per_D) * h;
+  return {h,
+          H,
+          s.container_radius(),
+          H - cells_below * h,
+          H + cells_above * h,
+          std::round(s.fine_radius_D * s.cells_per_D) * h};
+}
+
+}  // namespace
+
+std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
+  validate(s);
+  const double D = s.pile_diameter;
+  const auto [h, H, R, band_bottom, top, fine_radius] = scenario_grid(s);
 
   std::string t;
   auto line = [&t](const std::string& text) {
@@ -238,6 +264,8 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
     line("");
     line("[[phase]]");
     line(fmt::format("name = \"{}\"", name));
+    for (const ScenarioPhase& phase : scenario_phases(s))
+      if (phase.name == name) line(fmt::format("role = \"{}\"", to_string(phase.role)));
     line(fmt::format("duration_s = {:.9g}", duration));
     line(fmt::format("energy_interval_s = {:.9g}", std::min(record_time, duration)));
   };
@@ -289,4 +317,170 @@ std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
   return t;
 }
 
-}  // namespace pilempm
+namespace {
+
+// A value as the case file of the scenario carries it: 9 significant digits, the precision of
+// mpm_case.toml, so that the run of the typed case and the run of that file are the same.
+double file_value(double value) {
+  return std::strtod(fmt::format("{:.9g}", value).c_str(), nullptr);
+}
+
+// The scenario's material by name: a [[material]] of its file, else a built-in set.
+MaterialSpec scenario_material(const CentrifugeScenario& s, const std::string& name) {
+  for (const MaterialSpec& m : s.materials)
+    if (m.name == name) return m;
+  return builtin_material(name);
+}
+
+}  // namespace
+
+simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::string& source_name) {
+  using namespace simulation;
+  validate(s);
+  const auto v = file_value;
+  const double D = s.pile_diameter;
+  const auto [h, H, R, band_bottom, top, fine_radius] = scenario_grid(s);
+
+  MpmCase c;
+  c.source = source_name;
+  c.title = s.title;
+  c.geometry = mpm::Geometry::axisymmetric;
+  const double inf = std::numeric_limits<double>::infinity();
+  c.x_nodes =
+      mpm::GridAxis::graded(0.0, v(R), 0.0, v(fine_radius), v(h), v(s.growth_ratio), inf).nodes();
+  c.y_nodes =
+      mpm::GridAxis::graded(0.0, v(top), v(band_bottom), v(top), v(h), v(s.growth_ratio), inf)
+          .nodes();
+  c.boundaries.fill(mpm::BoundaryCondition::free);
+  c.boundaries[static_cast<std::size_t>(mpm::Side::right)] = mpm::BoundaryCondition::roller;
+  c.boundaries[static_cast<std::size_t>(mpm::Side::bottom)] = mpm::BoundaryCondition::fixed;
+  mpm::SolverSettings& solver = c.solver;
+  solver.gravity = v(s.gravity);
+  solver.gravity_multiplier = v(s.g_level);
+  solver.mass_scaling = v(s.mass_scaling);
+  solver.courant_number = v(s.courant_number);
+  solver.flip_fraction = v(s.flip_fraction);
+  solver.xpic_order = s.xpic_order;
+  solver.threads = s.threads;
+  solver.volumetric_smoothing = s.volumetric_smoothing;
+  solver.local_damping = v(s.damping);
+  solver.geometry = c.geometry;
+
+  // The sand: one region, or the fine zone and the two rectangles around it.
+  const MaterialSpec sand = scenario_material(s, s.installation_material);
+  auto region = [&](const std::string& name, double x_min, double x_max, double y_min, double y_max,
+                    int per_cell) {
+    MpmRegion r;
+    const int index = static_cast<int>(c.regions.size());
+    r.name = name;
+    r.source = source_name;
+    r.key = fmt::format("region[{}]", index);
+    r.fill.x_min = v(x_min);
+    r.fill.x_max = v(x_max);
+    r.fill.y_min = v(y_min);
+    r.fill.y_max = v(y_max);
+    r.fill.particles_per_cell_x = r.fill.particles_per_cell_y = per_cell;
+    r.fill.density = v(s.sand_density());
+    r.fill.material = index;
+    r.material = sand;
+    r.igs = named_igs(s.igs);
+    r.igs_in_region = true;
+    r.initial_stress = MpmInitialStress::geostatic;
+    r.K0 = v(scenario_K0(s));
+    r.e0 = v(s.e0);
+    r.e0_at = parse_void_ratio_convention(s.e0_at, "e0_at");
+    c.models.push_back(make_model(r.material, r.igs, s.integrator));
+    c.material_names.push_back(r.material.name);
+    c.regions.push_back(std::move(r));
+  };
+  const int outside = s.particles_per_cell_outside;
+  if (outside == s.particles_per_cell) {
+    region("sand", 0.0, R, 0.0, H, s.particles_per_cell);
+  } else {
+    region("sand", 0.0, fine_radius, band_bottom, H, s.particles_per_cell);
+    region("sand-beside", fine_radius, R, 0.0, H, outside);
+    region("sand-below", 0.0, fine_radius, 0.0, band_bottom, outside);
+  }
+
+  MpmBody pile;
+  pile.name = "pile";
+  pile.key = "body[0]";
+  pile.kind = MpmBodyKind::pile;
+  pile.radius = v(s.pile_radius());
+  pile.tip_y = v(s.initial_tip_y());
+  pile.apex_angle = s.tip == "conical" ? v(s.apex_angle_deg) * kPi / 180.0 : kPi;
+  pile.friction = std::tan(v(scenario_interface_friction_deg(s)) * kPi / 180.0);
+  c.bodies.push_back(pile);
+
+  // The phases, in the order and with the roles of scenario_phases.
+  auto phase = [&](const ScenarioPhase& role, double duration, double record_time) {
+    MpmPhase p;
+    p.name = role.name;
+    p.role = role.role;
+    p.duration = v(duration);
+    p.gravity_multiplier = solver.gravity_multiplier;
+    p.local_damping = solver.local_damping;
+    p.output_interval = p.duration;
+    p.energy_interval = v(std::min(record_time, duration));
+    p.body_motion.assign(c.bodies.size(), MpmBodyMotion{});
+    return p;
+  };
+  auto move = [&](MpmPhase& p, double direction, const PileMotion& m) {
+    p.body_motion[0].velocity = {0.0, v(direction * m.velocity)};
+    p.body_motion[0].ramp = v(m.ramp);
+  };
+  auto stop = [](MpmPhase& p, const char* key, MpmStopQuantity quantity, double value) {
+    p.stop_rules.push_back({key, quantity, 1, value});
+    p.stop_body = 0;
+  };
+  const std::vector<ScenarioPhase> roles = scenario_phases(s);
+  std::size_t next = 0;
+  MpmPhase initial = phase(roles[next++], s.initial_stress_time, s.initial_stress_time / 20.0);
+  initial.kind = MpmPhaseKind::geostatic;
+  initial.local_damping = v(s.initial_stress_damping);
+  c.phases.push_back(initial);
+  const double record = s.record_interval_D * D;
+  if (s.installation_D > 0.0) {
+    const std::vector<double> stops = installation_stops_D(s);
+    double from = s.wished_in_place_D;
+    for (std::size_t k = 0; k < stops.size(); ++k) {
+      MpmPhase p = phase(roles[next++], phase_duration((stops[k] - from) * D, s.jacking),
+                         record / s.jacking.velocity);
+      stop(p, "stop_displacement_y_m", MpmStopQuantity::displacement,
+           v(-(stops[k] - s.wished_in_place_D) * D));
+      p.checkpoint = k + 1 == stops.size();
+      move(p, -1.0, s.jacking);
+      c.phases.push_back(std::move(p));
+      from = stops[k];
+    }
+    if (s.relaxation) {
+      const double travel = s.relaxation_max_D * D;
+      MpmPhase p = phase(roles[next++], phase_duration(travel, s.relaxation_motion),
+                         0.1 * record / s.relaxation_motion.velocity);
+      // In the order the case file's reader takes them: displacement rules before force rules.
+      stop(p, "stop_phase_displacement_y_m", MpmStopQuantity::phase_displacement, v(travel));
+      stop(p, "stop_force_y_below_N", MpmStopQuantity::force_below, 0.0);
+      p.stop_force_averaging = v(s.relaxation_force_averaging);
+      move(p, 1.0, s.relaxation_motion);
+      c.phases.push_back(std::move(p));
+    }
+  }
+  if (s.load_test_D > 0.0) {
+    const double travel = s.load_test_D * D;
+    MpmPhase p = phase(roles[next++], phase_duration(travel, s.load_test_motion),
+                       0.1 * record / s.load_test_motion.velocity);
+    stop(p, "stop_phase_displacement_y_m", MpmStopQuantity::phase_displacement, v(-travel));
+    move(p, -1.0, s.load_test_motion);
+    if (!s.load_test_material.empty() && s.load_test_material != s.installation_material) {
+      const MaterialSpec set = scenario_material(s, s.load_test_material);
+      for (std::size_t i = 0; i < c.regions.size(); ++i)
+        p.material_changes.push_back(
+            {static_cast<int>(i), set.name, make_model(set, c.regions[i].igs, s.integrator)});
+    }
+    c.phases.push_back(std::move(p));
+  }
+  c.solver.validate();
+  return c;
+}
+
+}  // namespace pilempm::scenario

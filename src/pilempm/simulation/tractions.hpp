@@ -8,10 +8,10 @@
 // itself). The sum of the forces is thus the traction times the side's length (area per radian).
 #include <vector>
 
-#include "pilempm/io/mpm_case.hpp"
 #include "pilempm/mpm/particles.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
-namespace pilempm {
+namespace pilempm::simulation {
 
 /// The point forces [N] (per metre in plane strain, per radian in axisymmetry) of a traction
 /// `normal` [Pa] (positive pushing into the particles) and `shear` [Pa] (positive along +x on the
@@ -26,4 +26,4 @@ std::vector<mpm::Vec2> side_traction_forces(const mpm::Particles& particles, int
 std::vector<mpm::Vec2> mpm_traction_forces(const MpmCase& mpm_case,
                                            const mpm::Particles& particles);
 
-}  // namespace pilempm
+}  // namespace pilempm::simulation

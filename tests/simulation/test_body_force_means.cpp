@@ -6,11 +6,13 @@
 #include <vector>
 
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
-#include "pilempm/io/mpm_output.hpp"
 #include "pilempm/mpm/solver.hpp"
+#include "pilempm/simulation/body_force_means.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace simulation;
 
 TEST(MpmBodyForceMeans, MeanOfTheStepsSinceTheLastRow) {
   using mpm::Vec2;

@@ -8,7 +8,11 @@
 #include <string>
 #include <vector>
 
-namespace pilempm {
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
+#include "pilempm/constitutive/material_spec.hpp"
+#include "pilempm/simulation/mpm_case.hpp"
+
+namespace pilempm::scenario {
 
 /// How the pile moves in one phase of the scenario.
 struct PileMotion {
@@ -38,6 +42,8 @@ struct CentrifugeScenario {
   std::string load_test_material;                  ///< "" = the installation set
   std::vector<std::string> material_tables;        ///< [[material]] tables as TOML text
   std::string integrator_table;                    ///< an [integrator] table as TOML text, or ""
+  std::vector<MaterialSpec> materials;  ///< the [[material]] tables as read (the typed case's)
+  IntegratorSettings integrator{};      ///< the [integrator] table as read
   /// φ_c of the installation set when it is a [[material]] table [deg] (the reader sets it;
   /// built-in sets are looked up).
   double material_phi_c_deg = 0.0;
@@ -116,11 +122,29 @@ double scenario_interface_friction_deg(const CentrifugeScenario& scenario);
 /// container, ...). Throws InvalidValue naming the key of the scenario file.
 void validate(const CentrifugeScenario& scenario);
 
-/// The names of the phases the case will have, in order: "initial-stress", "installation"
-/// (split at the snapshot depths as "installation-to-4.7D", ...), "relaxation", "load-test".
+/// A phase of the case: its name and its role.
+struct ScenarioPhase {
+  std::string name;
+  simulation::MpmPhaseRole role = simulation::MpmPhaseRole::none;
+};
+
+/// The phases the case will have, in order: "initial-stress", "installation" (split at the
+/// snapshot depths as "installation-to-4.7D", ..., each with the installation role),
+/// "relaxation", "load-test".
+std::vector<ScenarioPhase> scenario_phases(const CentrifugeScenario& scenario);
+/// Their names.
 std::vector<std::string> scenario_phase_names(const CentrifugeScenario& scenario);
 
-/// The MPM case file text of the scenario (docs/mpm-case-files.md).
+/// The MPM case file text of the scenario (docs/mpm-case-files.md), written for the record as
+/// mpm_case.toml: read back, it is centrifuge_case's case and runs the same.
 std::string centrifuge_mpm_case(const CentrifugeScenario& scenario);
 
-}  // namespace pilempm
+/// The typed MPM case of the scenario, built directly: the graded axisymmetric grid, the sand
+/// regions with their K0 stress, the pile wished in place and the phases with their roles. Its
+/// numbers are those of centrifuge_mpm_case's text (9 significant digits), so that the file
+/// written for the record runs the same. `source_name` names the case in messages. Throws
+/// InvalidValue as validate() does.
+simulation::MpmCase centrifuge_case(const CentrifugeScenario& scenario,
+                                    const std::string& source_name);
+
+}  // namespace pilempm::scenario

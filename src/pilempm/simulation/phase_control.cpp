@@ -1,5 +1,5 @@
-// Phase control of MPM runs: see mpm_phase_control.hpp.
-#include "pilempm/io/mpm_phase_control.hpp"
+// Phase control of MPM runs: see phase_control.hpp.
+#include "pilempm/simulation/phase_control.hpp"
 
 #include <fmt/format.h>
 
@@ -7,8 +7,9 @@
 #include <cmath>
 
 #include "pilempm/core/tensor.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 
-namespace pilempm {
+namespace pilempm::simulation {
 
 double mpm_full_body_factor(mpm::Geometry geometry) {
   return geometry == mpm::Geometry::axisymmetric ? 2.0 * kPi : 1.0;
@@ -103,6 +104,23 @@ void MpmPhaseControl::record_step(double dt) {
   has_mean_force_ = true;
 }
 
+PhaseProgress MpmPhaseControl::progress() const {
+  PhaseProgress progress{std::clamp((solver_.time() - start_time_) / phase_.duration, 0.0, 1.0),
+                         "duration_s"};
+  for (std::size_t k = 0; k < phase_.stop_rules.size(); ++k) {
+    if (sense_[k] == 0.0) continue;
+    const MpmStopRule& rule = phase_.stop_rules[k];
+    const double from =
+        start_displacement_[static_cast<std::size_t>(phase_.stop_body)][rule.component];
+    const double to = goal(rule);
+    if (to == from) continue;
+    const double now = solver_.rigid_body(phase_.stop_body).displacement()[rule.component];
+    const double fraction = std::clamp((now - from) / (to - from), 0.0, 1.0);
+    if (fraction > progress.fraction) progress = {fraction, rule.key};
+  }
+  return progress;
+}
+
 std::string MpmPhaseControl::stop_reason(int landing_rule) const {
   if (phase_.stop_body < 0) return "";
   const MpmBody& b = case_.bodies.at(static_cast<std::size_t>(phase_.stop_body));
@@ -132,4 +150,4 @@ std::string MpmPhaseControl::stop_reason(int landing_rule) const {
   return "";
 }
 
-}  // namespace pilempm
+}  // namespace pilempm::simulation

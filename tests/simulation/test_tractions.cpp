@@ -6,12 +6,14 @@
 #include <cmath>
 #include <vector>
 
-#include "pilempm/io/mpm_tractions.hpp"
 #include "pilempm/mpm/grid.hpp"
 #include "pilempm/mpm/particles.hpp"
+#include "pilempm/simulation/tractions.hpp"
 
 namespace pilempm {
 namespace {
+
+using namespace simulation;
 
 // Region 1: [0.2, 0.8] × [0.1, 0.5] on a uniform grid of 0.1 m, 2 × 3 particles per
 // cell; region 0: a layer below it that must not be loaded.

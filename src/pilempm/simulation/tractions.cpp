@@ -1,11 +1,11 @@
-// Surface tractions as particle forces: see mpm_tractions.hpp.
-#include "pilempm/io/mpm_tractions.hpp"
+// Surface tractions as particle forces: see tractions.hpp.
+#include "pilempm/simulation/tractions.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-namespace pilempm {
+namespace pilempm::simulation {
 
 std::vector<mpm::Vec2> side_traction_forces(const mpm::Particles& particles, int material,
                                             mpm::Geometry geometry, mpm::Side side, double normal,
@@ -54,4 +54,4 @@ std::vector<mpm::Vec2> mpm_traction_forces(const MpmCase& c, const mpm::Particle
   return total;
 }
 
-}  // namespace pilempm
+}  // namespace pilempm::simulation

@@ -6,10 +6,11 @@
 #include <string>
 #include <vector>
 
-#include "pilempm/io/mpm_case.hpp"
 #include "pilempm/mpm/solver.hpp"
+#include "pilempm/simulation/mpm_case.hpp"
+#include "pilempm/simulation/scheme.hpp"
 
-namespace pilempm {
+namespace pilempm::simulation {
 
 /// Full-body force per solver force: 2π in axisymmetry (the solver's is per radian), 1 in plane
 /// strain (per metre).
@@ -46,6 +47,10 @@ class MpmPhaseControl {
   /// `landing_rule`: the plan's, when the step was taken.
   std::string stop_reason(int landing_rule = -1) const;
 
+  /// How far the phase is: the largest of the fraction of its duration and, for each
+  /// displacement stop rule, the fraction of the way from the phase start to its goal.
+  PhaseProgress progress() const;
+
   /// After each step of length `dt` [s]: updates the averaged force the force rules compare
   /// (MpmPhase::stop_force_averaging).
   void record_step(double dt);
@@ -65,4 +70,4 @@ class MpmPhaseControl {
   bool has_mean_force_ = false;
 };
 
-}  // namespace pilempm
+}  // namespace pilempm::simulation

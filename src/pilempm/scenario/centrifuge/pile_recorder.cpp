@@ -1,0 +1,81 @@
+// The pile of a centrifuge run as it is recorded: see pile_recorder.hpp.
+#include "pilempm/scenario/centrifuge/pile_recorder.hpp"
+
+#include <cmath>
+
+namespace pilempm::scenario {
+
+using simulation::MpmPhase;
+using simulation::MpmPhaseRole;
+using simulation::PilePart;
+
+namespace {
+
+double pile_y(const mpm::Solver& solver) {
+  return solver.rigid_body(0).displacement().y();
+}
+
+}  // namespace
+
+PileRecorder::PileRecorder(const CentrifugeScenario& s, double factor)
+    : s_(s), factor_(factor), interval_(s.record_interval_D * s.pile_diameter) {}
+
+void PileRecorder::after_step(const simulation::Scheme& scheme, const MpmPhase& phase, double dt) {
+  const mpm::Solver& solver = scheme.state();
+  means_.add_step(solver, dt);
+  reaction_impulse_ += dt * solver.boundary_reaction();
+  damping_impulse_ += dt * solver.damping_force();
+  elapsed_ += dt;
+  // Installation: a row per record interval; the short relaxation and load test: ten.
+  const double interval = phase.role == MpmPhaseRole::installation ? interval_ : 0.1 * interval_;
+  if (phase.role != MpmPhaseRole::initial_stress &&
+      std::abs(pile_y(solver) - last_row_y_) >= interval * (1.0 - 1e-9))
+    add_row(solver, phase);
+}
+
+void PileRecorder::phase_end(const simulation::Scheme& scheme, const MpmPhase& phase) {
+  if (elapsed_ > 0.0) add_row(scheme.state(), phase);
+  phase_start_y_ = pile_y(scheme.state());
+}
+
+void PileRecorder::add_row(const mpm::Solver& solver, const MpmPhase& phase) {
+  const std::vector<mpm::RigidBodyForce> forces = means_.take(solver);
+  const mpm::RigidBodyForce& f = forces.at(0);
+  const auto tip = static_cast<std::size_t>(PilePart::tip);
+  const auto shaft = static_cast<std::size_t>(PilePart::shaft);
+  PileRow row;
+  row.time = solver.time();
+  row.phase = phase.name;
+  row.role = phase.role;
+  const double y = pile_y(solver);
+  row.displacement = 0.0 - y;  // 0 - y: no "-0" in the file
+  row.phase_displacement = 0.0 - (y - phase_start_y_);
+  row.tip_depth = s_.wished_in_place_D * s_.pile_diameter - y;
+  row.head = factor_ * f.total.y();
+  row.tip = f.parts.size() > tip ? factor_ * f.parts[tip].y() : 0.0;
+  row.shaft = f.parts.size() > shaft ? factor_ * f.parts[shaft].y() : 0.0;
+  row.base_reaction = elapsed_ > 0.0 ? factor_ * reaction_impulse_.y() / elapsed_ : 0.0;
+  row.damping = elapsed_ > 0.0 ? factor_ * damping_impulse_.y() / elapsed_ : 0.0;
+  if (!soil_weight_) {  // the particles and their masses do not change
+    double mass = 0.0;
+    for (double m : solver.particles().mass) mass += m;
+    soil_weight_ = factor_ * mass * s_.gravity * s_.g_level;
+  }
+  row.soil_weight = *soil_weight_;
+  row.kinetic = factor_ * solver.energies().kinetic;
+  row.pile_work = factor_ * solver.energies().contact_work;
+  // The sand's vertical momentum with the inertial (scaled) mass; it starts at rest at t = 0.
+  const mpm::Particles& particles = solver.particles();
+  double momentum = 0.0;
+  for (std::size_t p = 0; p < particles.size(); ++p)
+    momentum += particles.mass[p] * particles.velocity[p].y();
+  momentum *= factor_ * solver.settings().mass_scaling;
+  row.momentum_rate = elapsed_ > 0.0 ? (momentum - momentum_) / elapsed_ : 0.0;
+  momentum_ = momentum;
+  rows_.push_back(row);
+  reaction_impulse_ = damping_impulse_ = mpm::Vec2::Zero();
+  elapsed_ = 0.0;
+  last_row_y_ = y;
+}
+
+}  // namespace pilempm::scenario

@@ -1,0 +1,27 @@
+#pragma once
+// The assembly of a run from a typed case: the grid, the particles with their initial state (the
+// geostatic stress included), the rigid bodies and the solver with a phase's settings.
+#include "pilempm/mpm/grid.hpp"
+#include "pilempm/mpm/particles.hpp"
+#include "pilempm/mpm/solver.hpp"
+#include "pilempm/simulation/mpm_case.hpp"
+
+namespace pilempm::simulation {
+
+/// The grid with its boundary conditions (and the axis of symmetry in axisymmetry).
+mpm::Grid make_mpm_grid(const MpmCase& mpm_case);
+/// The particles of all regions with their initial state (throws InputError at the region when
+/// a region cannot be filled or its initial void ratio is impossible).
+mpm::Particles make_mpm_particles(const MpmCase& mpm_case, const mpm::Grid& grid);
+/// Sets the geostatic state of every particle of a region with initial_stress = "geostatic":
+/// σ_v = N g ∫ ρ dy of the regions above it, σ_h = σ_θθ = K0 σ_v, the void ratio from e0 by the
+/// region's convention (with the particle's current model), the intergranular strain as at the
+/// start, zero velocity. `gravity` is N g [m/s^2].
+void set_geostatic_state(const MpmCase& mpm_case, mpm::Solver& solver, double gravity);
+/// The solver at time 0, with the [solver] settings, the first phase's gravity and damping, and
+/// the rigid bodies (at rest).
+mpm::Solver make_mpm_solver(const MpmCase& mpm_case);
+/// The solver settings of a phase.
+mpm::SolverSettings phase_settings(const MpmCase& mpm_case, const MpmPhase& phase);
+
+}  // namespace pilempm::simulation
