@@ -1,4 +1,4 @@
-// The `pilempm analytic ...` subcommands: tables of the analytical relations of BRIEF.md §4
+// The `pilempm analytic ...` subcommands: tables of the analytical relations of docs/study.md §3
 // (Bolton, Rohe, Bauer, Herle & Gudehus) on stdout, and optionally as CSV.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -402,7 +402,7 @@ void register_alpha(CLI::App& analytic) {
 
 void register_analytic_commands(CLI::App& app) {
   auto* analytic = app.add_subcommand(
-      "analytic", "analytical relations: Bolton, Rohe, Bauer, Herle & Gudehus (BRIEF.md §4)");
+      "analytic", "analytical relations: Bolton, Rohe, Bauer, Herle & Gudehus (docs/study.md §3)");
   analytic->require_subcommand(1);
   register_bolton(*analytic);
   register_rohe(*analytic);

@@ -1,4 +1,4 @@
-// Bauer's (1996) compression law (BRIEF.md §2, §4) against its closed form.
+// Bauer's (1996) compression law (docs/model.md §2-§6, §4) against its closed form.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Bolton (1986) with Schanz & Vermeer's dilatancy angle against the study's table (BRIEF.md §4).
+// Bolton (1986) with Schanz & Vermeer's dilatancy angle against the study's table (docs/study.md §3).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-// Herle & Gudehus (1999) alpha from a peak state, and the study's alpha(p) recipe (BRIEF.md §4).
+// Herle & Gudehus (1999) alpha from a peak state, and the study's alpha(p) recipe (docs/study.md §3).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -17,7 +17,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 // The stationarity condition Herle & Gudehus solve, written out independently of the library:
 // at the peak of a triaxial compression test the stress rate of von Wolffersdorff's model
-// vanishes, F^2 D + a^2 T^ tr(T^ D) + f_d a F (T^ + T^*) ||D|| = 0 (BRIEF.md §2), with
+// vanishes, F^2 D + a^2 T^ tr(T^ D) + f_d a F (T^ + T^*) ||D|| = 0 (docs/model.md §2-§6), with
 // T^ = diag(K_p, 1, 1)/(K_p + 2) and D = diag(-1, x, x). Its axial and lateral components give
 // f_d and x; tan nu_p = -(D_11 + 2 D_22)/D_11 = 2x - 1.
 struct StationaryPeak {

@@ -1,4 +1,4 @@
-// Rohe (2010) stress-dependent reference void ratios (BRIEF.md §4).
+// Rohe (2010) stress-dependent reference void ratios (docs/study.md §3).
 #include <gtest/gtest.h>
 
 #include <string>

@@ -1,4 +1,4 @@
-// Validation of the hypoplastic parameters, the named sets of BRIEF.md §2, the integrator
+// Validation of the hypoplastic parameters, the named sets of docs/model.md §2-§6, the integrator
 // settings, and the two initial void ratio conventions.
 #include <gtest/gtest.h>
 
@@ -156,7 +156,7 @@ TEST(HypoplasticParameters, NamedSetsEqualTheBriefTable) {
     const char* name;
     double phi_c, h_s_MPa, n, e_d0, e_c0, e_i0, alpha, beta;
   };
-  // BRIEF.md §2, Baskarp sand (the modified sets keep n = 0.42).
+  // docs/model.md §2-§6, Baskarp sand (the modified sets keep n = 0.42).
   const Row rows[] = {
       {"original", 31, 4000, 0.42, 0.548, 0.929, 1.08, 0.12, 0.96},
       {"loose-fit", 31, 2000, 0.42, 0.548, 0.929, 1.08, 0.12, 0.96},

@@ -1,5 +1,5 @@
 // Physics checks of the hypoplastic model (von Wolffersdorff 1996) with and without the
-// intergranular strain (Niemunis & Herle 1997), BRIEF.md §2: the rate equation against an
+// intergranular strain (Niemunis & Herle 1997), docs/model.md §2-§6: the rate equation against an
 // independent 3x3 implementation of the brief's formulas, Bauer's compression law on the e_i
 // curve, the critical state in drained triaxial compression, objectivity, the stiffness factors
 // m_R and m_T of the intergranular strain, the treatment of tensile increments, and the stress
@@ -117,7 +117,7 @@ class MixedControlPoint {
 };
 
 // ---------------------------------------------------------------------------------------------
-// The rate equation written out once more, on full 3x3 matrices, straight from BRIEF.md §2.
+// The rate equation written out once more, on full 3x3 matrices, straight from docs/model.md §2-§6.
 Mat3 reference_stress_rate(const HypoplasticParameters& p, const Mat3& T, double e, const Mat3& D) {
   const Mat3 I = Mat3::Identity();
   const double trT = T.trace();
@@ -516,7 +516,7 @@ TEST(HypoplasticPhysics, IntergranularStrainStiffnessFactorsAtFullMobilisation) 
 }
 
 TEST(HypoplasticPhysics, IntergranularStrainGeneralRateEqualsTheBriefMatrixForm) {
-  // At any rho, T° = M:D with M of BRIEF.md §2 assembled from L, N and delta_hat; and
+  // At any rho, T° = M:D with M of docs/model.md §2-§6 assembled from L, N and delta_hat; and
   // delta° = (I - delta_hat (x) delta_hat rho^beta_r):D when delta_hat:D > 0, else D.
   std::mt19937_64 rng(99);
   std::uniform_real_distribution<double> uniform(0.0, 1.0);

@@ -143,7 +143,7 @@ TEST(ElementTests, PlateauPeakIsWhereThePlateauStarts) {
 
 TEST(ElementTests, DilatancyAngleMatchesBoltonsForm) {
   // Bolton (1986) with Schanz & Vermeer: (-d eps_v/d eps_1) = 0.3 I_R gives
-  // sin psi = 0.3 I_R / (2 + 0.3 I_R); for I_R = 2.596 that is psi = 16.277 deg (BRIEF §4).
+  // sin psi = 0.3 I_R / (2 + 0.3 I_R); for I_R = 2.596 that is psi = 16.277 deg (docs/study.md §3).
   EXPECT_NEAR(dilatancy_angle_deg(-0.3 * 2.596), 16.277, 1e-3);
   EXPECT_NEAR(dilatancy_angle_deg(0.0), 0.0, 1e-15);
 }

@@ -1,6 +1,6 @@
 #pragma once
 // Bauer's (1996) compression law: the limit void ratios of the hypoplastic model against mean
-// stress. BRIEF.md §2 and §4.
+// stress. docs/model.md §2-§6 and §4.
 #include <span>
 #include <vector>
 

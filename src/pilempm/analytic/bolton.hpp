@@ -1,6 +1,6 @@
 #pragma once
 // Bolton's (1986) stress-dilatancy relations for triaxial compression, with the dilatancy angle
-// after Schanz & Vermeer (1996). BRIEF.md §4.
+// after Schanz & Vermeer (1996). docs/study.md §3.
 
 namespace pilempm {
 

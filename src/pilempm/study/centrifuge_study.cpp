@@ -195,7 +195,7 @@ const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
         {"par_e0_0.62.toml", "e0 = 0.62"},
         {"par_e0_0.75.toml", "e0 = 0.75"}}},
       {"stress-alpha",
-       "stress-dependent alpha (BRIEF 6) against the original set",
+       "stress-dependent alpha (docs/study.md §5) against the original set",
        {{"md_original.toml", "original, alpha = 0.12"},
         {"md_stress_dependent_alpha.toml", "original, stress-dependent alpha"}}},
   };

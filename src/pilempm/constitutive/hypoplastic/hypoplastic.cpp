@@ -139,7 +139,7 @@ Hypoplastic::StressFunctions Hypoplastic::stress_functions(const Vec6& stress,
   s.bauer = bauer;
   HypoplasticParameters::Reference r{p.alpha, p.e_d0, p.e_c0, p.e_i0};
   double fb_constant = f_b_constant_;
-  if (stress_dependent_) {  // alpha and e_x0 follow the stress level (BRIEF.md §6)
+  if (stress_dependent_) {  // alpha and e_x0 follow the stress level (docs/study.md §5)
     r = p.reference_at(-tr_T / 3.0);
     fb_constant = f_b_constant(r);
   }
@@ -176,7 +176,7 @@ Hypoplastic::BauerFactor Hypoplastic::evaluate(const Point& y, const Vec6& D,
     rate_out.delta.setZero();
     return bauer;
   }
-  // Niemunis & Herle (1997), BRIEF.md §2.
+  // Niemunis & Herle (1997), docs/model.md §2-§6.
   const auto& igs = intergranular_;
   const double norm_delta = y.delta.norm();
   const double rho = std::min(norm_delta / igs.R, 1.0);

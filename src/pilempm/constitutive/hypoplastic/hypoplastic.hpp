@@ -1,7 +1,7 @@
 #pragma once
 // Hypoplasticity for sand after von Wolffersdorff (1996), Mech. Cohes.-Frict. Mater. 1, 251-271,
 // with the intergranular strain of Niemunis & Herle (1997), Mech. Cohes.-Frict. Mater. 2,
-// 279-299, exactly as written in BRIEF.md §2, integrated by the explicit embedded Runge-Kutta pair
+// 279-299, exactly as written in docs/model.md §2-§6, integrated by the explicit embedded Runge-Kutta pair
 // of integration/embedded_runge_kutta.hpp with adaptive sub-stepping and local error control. This
 // file gives the integrator the rates and the edges of the model's domain.
 //
@@ -58,7 +58,7 @@ class Hypoplastic final : public ConstitutiveModel {
   };
   Rate rate(const MaterialState& state, const Vec6& stretching) const;
 
-  /// The basic model's linear stiffness L and nonlinear term N at the state (BRIEF.md §2), so
+  /// The basic model's linear stiffness L and nonlinear term N at the state (docs/model.md §2-§6), so
   /// that T° = L:D + N ||D|| without intergranular strain.
   struct Terms {
     Mat6 L;

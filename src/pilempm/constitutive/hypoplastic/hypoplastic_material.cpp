@@ -83,7 +83,7 @@ HypoplasticMaterial read_hypoplastic_material(ParameterSource& t) {
   read_into(t, "beta", p.beta, NumberRange::non_negative(), required);
   if (t.contains("igs")) m.igs = read_igs(t, "igs");
   if (auto sd = t.table("stress_dependence")) {
-    // Beyond the study (BRIEF.md §6): alpha(p) and Rohe's void ratios, see StressDependence.
+    // Beyond the study (docs/study.md §5): alpha(p) and Rohe's void ratios, see StressDependence.
     sd->declare(
         {"alpha", "alpha_low", "alpha_high", "p_low_kPa", "p_high_kPa", "rohe_void_ratios"});
     StressDependence& d = p.stress_dependence;

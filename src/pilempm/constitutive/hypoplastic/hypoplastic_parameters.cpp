@@ -19,7 +19,7 @@ struct NamedHypoplasticSet {
 
 constexpr double kMPa = 1.0e6;
 
-// BRIEF.md §2, Baskarp sand. The modified sets keep n = 0.42 (the report's table omits n).
+// docs/model.md §2-§6, Baskarp sand. The modified sets keep n = 0.42 (the report's table omits n).
 const NamedHypoplasticSet kHypoplasticSets[] = {
     {"original", {31.0, 4000.0 * kMPa, 0.42, 0.548, 0.929, 1.08, 0.12, 0.96, {}}},
     {"loose-fit", {31.0, 2000.0 * kMPa, 0.42, 0.548, 0.929, 1.08, 0.12, 0.96, {}}},
@@ -35,7 +35,7 @@ struct NamedIgsSet {
   IntergranularStrainParameters parameters;
 };
 
-// BRIEF.md §2: IGS 1 after Niemunis & Herle (1997), IGS 2 after Pham et al. (2010).
+// docs/model.md §2-§6: IGS 1 after Niemunis & Herle (1997), IGS 2 after Pham et al. (2010).
 const NamedIgsSet kIgsSets[] = {
     {"IGS1", {5.0, 2.0, 1.0e-4, 0.5, 6.0}}, {"IGS2", {5.0, 2.0, 1.0e-4, 1.0, 2.0}},
     {"IGS3", {5.0, 2.0, 1.0e-4, 1.0, 1.0}}, {"IGS4", {5.0, 2.0, 5.0e-5, 1.0, 1.0}},

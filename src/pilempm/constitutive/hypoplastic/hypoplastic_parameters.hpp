@@ -1,6 +1,6 @@
 #pragma once
 // Parameters of the hypoplastic sand model (von Wolffersdorff 1996) and of the intergranular
-// strain extension (Niemunis & Herle 1997), the named sets of the Deltares study (BRIEF.md §2),
+// strain extension (Niemunis & Herle 1997), the named sets of the Deltares study (docs/model.md §2-§6),
 // their validation, and the two conventions for the initial void ratio.
 #include <string>
 #include <string_view>
@@ -8,7 +8,7 @@
 
 namespace pilempm {
 
-/// Beyond the study (BRIEF.md §6): the study concludes that alpha should fall gradually as the
+/// Beyond the study (docs/study.md §5): the study concludes that alpha should fall gradually as the
 /// stress level rises. With `alpha_varies`, alpha follows the mean stress p:
 ///   alpha(p) = alpha_low                                     for p <= p_low,
 ///   alpha(p) = alpha_high + (alpha_low - alpha_high) (1 - s(xi)), xi =
@@ -83,7 +83,7 @@ IntergranularStrainParameters intergranular_strain_set(std::string_view name);
 std::vector<std::string> hypoplastic_set_names();
 std::vector<std::string> intergranular_strain_set_names();
 
-/// Which state the given initial void ratio e0 refers to (BRIEF.md §2).
+/// Which state the given initial void ratio e0 refers to (docs/model.md §2-§6).
 enum class VoidRatioConvention {
   at_initial_stress,  ///< e0 is the void ratio at the initial stress, used as it is
   at_zero_pressure,   ///< e0 is a reference at p = 0, scaled to p0 by Bauer's law

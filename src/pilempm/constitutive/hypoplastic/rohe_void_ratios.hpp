@@ -1,5 +1,5 @@
 #pragma once
-// Rohe's (2010) stress-dependent reference void ratios (BRIEF.md §4). An analytical relation,
+// Rohe's (2010) stress-dependent reference void ratios (docs/study.md §3). An analytical relation,
 // kept in the constitutive layer because the stress-dependent option of the hypoplastic model
 // uses it; `pilempm analytic rohe` prints it.
 
