@@ -14,8 +14,8 @@
 #include "pilempm/io/calibration_case.hpp"
 #include "pilempm/io/calibration_output.hpp"
 #include "pilempm/io/element_output.hpp"
-#include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/material_reader.hpp"
+#include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/study/plotting.hpp"
 
 namespace pilempm::cli {

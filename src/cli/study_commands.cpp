@@ -127,7 +127,8 @@ void register_study_commands(CLI::App& app) {
   auto centrifuge_flags = std::make_shared<CentrifugeStudyFlags>();
   CLI::App* centrifuge = study->add_subcommand(
       "centrifuge",
-      "the centrifuge study (docs/study.md §4): installation for both densities and parameter sets, the "
+      "the centrifuge study (docs/study.md §4): installation for both densities and parameter "
+      "sets, the "
       "load tests MPM-1..4, the IGS study, the parametric study and stress-dependent alpha; each "
       "case into DIR/<case>/, the comparisons and README.md into DIR (hours on 2 cores: see "
       "docs/centrifuge.md)");

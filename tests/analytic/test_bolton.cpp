@@ -1,4 +1,5 @@
-// Bolton (1986) with Schanz & Vermeer's dilatancy angle against the study's table (docs/study.md §3).
+// Bolton (1986) with Schanz & Vermeer's dilatancy angle against the study's table (docs/study.md
+// §3).
 #include <gtest/gtest.h>
 
 #include <cmath>

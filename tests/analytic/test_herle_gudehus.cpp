@@ -1,4 +1,5 @@
-// Herle & Gudehus (1999) alpha from a peak state, and the study's alpha(p) recipe (docs/study.md §3).
+// Herle & Gudehus (1999) alpha from a peak state, and the study's alpha(p) recipe (docs/study.md
+// §3).
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -1,4 +1,5 @@
-// The stress-dependent alpha (and Rohe void ratios) option of the hypoplastic model (docs/study.md §5).
+// The stress-dependent alpha (and Rohe void ratios) option of the hypoplastic model (docs/study.md
+// §5).
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,5 +1,5 @@
-// docs/study.md §5 / issue 3: the stress-dependent alpha behaves like the original set at 0.1 MPa and
-// like the modified set at 10 MPa: drained triaxial peak friction angles within 1 degree.
+// docs/study.md §5 / issue 3: the stress-dependent alpha behaves like the original set at 0.1 MPa
+// and like the modified set at 10 MPa: drained triaxial peak friction angles within 1 degree.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,6 +1,6 @@
-// Centrifuge case files: the strict reader (defaults of docs/study.md §4, unknown keys and bad values as
-// errors with file, line, key, value and range), the MPM case a scenario becomes (grid, pile,
-// phases, materials), the particles of that case (none inside the pile wished in place, the
+// Centrifuge case files: the strict reader (defaults of docs/study.md §4, unknown keys and bad
+// values as errors with file, line, key, value and range), the MPM case a scenario becomes (grid,
+// pile, phases, materials), the particles of that case (none inside the pile wished in place, the
 // geostatic stress ρ N g z) and the phase key stop_force_averaging_s with its moving average.
 #include <gtest/gtest.h>
 

@@ -184,7 +184,8 @@ TEST(CentrifugeScenario, SandDensityIsTheDryDensityOfTheVoidRatio) {
 }
 
 TEST(CentrifugeScenario, GeometryFollowsTheDiameter) {
-  CentrifugeScenario s;  // docs/study.md §4: D = 11.3 mm, R = 26 D, H = 35 D, wished in place at 10 D
+  CentrifugeScenario
+      s;  // docs/study.md §4: D = 11.3 mm, R = 26 D, H = 35 D, wished in place at 10 D
   EXPECT_NEAR(s.pile_radius(), 0.00565, 1e-15);
   EXPECT_NEAR(s.container_radius(), 26.0 * 0.0113, 1e-15);
   EXPECT_NEAR(s.sand_height(), 35.0 * 0.0113, 1e-15);

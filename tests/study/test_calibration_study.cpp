@@ -272,8 +272,8 @@ TEST_F(QuickStudy, ReadmeNamesEveryItemItsConventionAndFigures) {
     for (const std::string& csv : item.csv)
       EXPECT_NE(section.find("(" + csv + ")"), std::string::npos) << csv;
   }
-  // Where the study used which convention (docs/study.md §2): laboratory tests at the initial stress,
-  // the high-pressure and alpha series scaled from zero pressure.
+  // Where the study used which convention (docs/study.md §2): laboratory tests at the initial
+  // stress, the high-pressure and alpha series scaled from zero pressure.
   EXPECT_NE(report().items[0].convention.find("`initial-stress`"), std::string::npos);
   EXPECT_NE(report().items[3].convention.find("`zero-pressure`"), std::string::npos);
   EXPECT_NE(md.find("plot_figures.py figures.json"), std::string::npos);  // how to draw again

@@ -11,7 +11,8 @@
 
 namespace pilempm {
 
-/// a = sqrt3 (3 - sin phi_c) / (2 sqrt2 sin phi_c) of von Wolffersdorff's model (docs/model.md §2-§6).
+/// a = sqrt3 (3 - sin phi_c) / (2 sqrt2 sin phi_c) of von Wolffersdorff's model (docs/model.md
+/// §2-§6).
 double hypoplastic_factor_a(double phi_c_deg);
 
 /// The peak state in triaxial compression that Herle & Gudehus (1999) solve for.
@@ -56,8 +57,8 @@ struct AlphaPoint {
 };
 
 /// The study's recipe for alpha at mean stress `mean_stress` [Pa] (> 0) in isotropic compression
-/// (docs/study.md §3): e_d and e_c from Bauer's law at p, I_D = (e_c - e)/(e_c - e_d), the peak angle
-/// phi_p from Bolton (1986) with that I_D at p (with the set's phi_c), and alpha from
+/// (docs/study.md §3): e_d and e_c from Bauer's law at p, I_D = (e_c - e)/(e_c - e_d), the peak
+/// angle phi_p from Bolton (1986) with that I_D at p (with the set's phi_c), and alpha from
 /// `alpha_from_peak`. The void ratio e at p depends on `convention`:
 ///  - at_initial_stress: e = e0 at every pressure (e0 is the void ratio of the state considered;
 ///    this is the default of the CLI and reproduces the brief's alpha = 0.13 at 100 kPa for

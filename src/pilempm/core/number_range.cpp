@@ -8,7 +8,9 @@
 
 namespace pilempm {
 
-bool NumberRange::contains(double value) const { return problem(value).empty(); }
+bool NumberRange::contains(double value) const {
+  return problem(value).empty();
+}
 
 std::string NumberRange::problem(double value) const {
   const bool inside = std::isfinite(value) && (lower_open ? value > lower : value >= lower) &&

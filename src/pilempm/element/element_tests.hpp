@@ -1,6 +1,6 @@
 #pragma once
-// The element-test types of docs/study.md §2, each a loading programme for the mixed-control driver:
-// isotropic compression, oedometer (monotonic and cyclic between stress targets), drained
+// The element-test types of docs/study.md §2, each a loading programme for the mixed-control
+// driver: isotropic compression, oedometer (monotonic and cyclic between stress targets), drained
 // triaxial compression at constant cell pressure, undrained (constant-volume) triaxial, and a
 // user-given strain path. Axial is Mandel component 11, radial are 22 and 33.
 //

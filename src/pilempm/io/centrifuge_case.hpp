@@ -1,6 +1,6 @@
 #pragma once
-// Centrifuge case files (docs/centrifuge.md): the centrifuge pile test of docs/study.md §4 given by its
-// physics ([test], [sand], [pile], [installation], [relaxation], [load_test], [mesh], [solver],
+// Centrifuge case files (docs/centrifuge.md): the centrifuge pile test of docs/study.md §4 given by
+// its physics ([test], [sand], [pile], [installation], [relaxation], [load_test], [mesh], [solver],
 // [output], and [[material]] / [integrator] tables as in element case files). Reading is strict:
 // unknown keys and bad values are InputErrors with the file, the line, the key, the value and the
 // allowed range. Every key has the default of docs/study.md §4.

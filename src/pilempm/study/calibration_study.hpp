@@ -1,8 +1,8 @@
 #pragma once
 // The calibration study of the Deltares report reproduced by one call (`pilempm study
 // calibration --out DIR`): the element tests of examples/study_calibration.toml (built in) run
-// into DIR/tests/, then for each item of the study (docs/study.md §2, §3, §5) a CSV with the units in
-// the column names, the tables computed from the curves and from the analytical relations, a
+// into DIR/tests/, then for each item of the study (docs/study.md §2, §3, §5) a CSV with the units
+// in the column names, the tables computed from the curves and from the analytical relations, a
 // description of the figures (DIR/figures.json) drawn as PNG files by the plotting script
 // (DIR/plot_figures.py, see plotting.hpp), and DIR/README.md with the tables, the figures and the
 // initial void-ratio convention of every item. Each item is one file under study/calibration/

@@ -1,8 +1,9 @@
 #pragma once
-// The centrifuge study (docs/study.md §4, docs/centrifuge.md): the case files of examples/centrifuge/
-// in groups (installation for both densities and parameter sets, the load-test cases MPM-1..4,
-// the IGS study, the parametric study, stress-dependent α), each run into DIR/<case>/, then the
-// figures that compare the runs of a group and DIR/README.md with a table of every run.
+// The centrifuge study (docs/study.md §4, docs/centrifuge.md): the case files of
+// examples/centrifuge/ in groups (installation for both densities and parameter sets, the load-test
+// cases MPM-1..4, the IGS study, the parametric study, stress-dependent α), each run into
+// DIR/<case>/, then the figures that compare the runs of a group and DIR/README.md with a table of
+// every run.
 #include <filesystem>
 #include <ostream>
 #include <string>

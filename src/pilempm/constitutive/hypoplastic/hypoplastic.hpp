@@ -1,9 +1,9 @@
 #pragma once
 // Hypoplasticity for sand after von Wolffersdorff (1996), Mech. Cohes.-Frict. Mater. 1, 251-271,
 // with the intergranular strain of Niemunis & Herle (1997), Mech. Cohes.-Frict. Mater. 2,
-// 279-299, exactly as written in docs/model.md §2-§6, integrated by the explicit embedded Runge-Kutta pair
-// of integration/embedded_runge_kutta.hpp with adaptive sub-stepping and local error control. This
-// file gives the integrator the rates and the edges of the model's domain.
+// 279-299, exactly as written in docs/model.md §2-§6, integrated by the explicit embedded
+// Runge-Kutta pair of integration/embedded_runge_kutta.hpp with adaptive sub-stepping and local
+// error control. This file gives the integrator the rates and the edges of the model's domain.
 //
 // Treatment of the edges of the model's domain (the model is undefined at tr T = 0):
 //  * Mean stress floor. A trial sub-step that leaves the admissible stress domain (a tensile
@@ -58,8 +58,8 @@ class Hypoplastic final : public ConstitutiveModel {
   };
   Rate rate(const MaterialState& state, const Vec6& stretching) const;
 
-  /// The basic model's linear stiffness L and nonlinear term N at the state (docs/model.md §2-§6), so
-  /// that T° = L:D + N ||D|| without intergranular strain.
+  /// The basic model's linear stiffness L and nonlinear term N at the state (docs/model.md §2-§6),
+  /// so that T° = L:D + N ||D|| without intergranular strain.
   struct Terms {
     Mat6 L;
     Vec6 N;

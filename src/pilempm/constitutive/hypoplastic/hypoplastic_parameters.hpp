@@ -1,7 +1,7 @@
 #pragma once
 // Parameters of the hypoplastic sand model (von Wolffersdorff 1996) and of the intergranular
-// strain extension (Niemunis & Herle 1997), the named sets of the Deltares study (docs/model.md §2-§6),
-// their validation, and the two conventions for the initial void ratio.
+// strain extension (Niemunis & Herle 1997), the named sets of the Deltares study (docs/model.md
+// §2-§6), their validation, and the two conventions for the initial void ratio.
 #include <string>
 #include <string_view>
 #include <vector>

@@ -1,8 +1,8 @@
 #pragma once
 // Linear elastic - perfectly plastic Mohr-Coulomb model with a non-associated plastic potential
 // (dilatancy angle psi) and an optional Rankine tension cut-off, integrated by an exact return
-// mapping in principal stress space. The baseline model of docs/model.md §2-§6 (end) and the model for MPM
-// verification.
+// mapping in principal stress space. The baseline model of docs/model.md §2-§6 (end) and the model
+// for MPM verification.
 //
 // Conventions: tension positive; principal stresses sorted s1 >= s2 >= s3, so s3 is the major
 // compression. In that sextant the yield functions are (k = (1 + sin phi)/(1 - sin phi),

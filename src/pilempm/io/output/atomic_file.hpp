@@ -1,7 +1,8 @@
 #pragma once
 // Writing output files so that an error never leaves a half-written file and never destroys a
 // good older one: the content goes to FILE.<process>-<count>.tmp in the same folder (a name no
-// other write uses), is synced, then renamed over FILE. Every file the program writes goes through here.
+// other write uses), is synced, then renamed over FILE. Every file the program writes goes through
+// here.
 #include <filesystem>
 #include <string_view>
 

@@ -3,7 +3,8 @@
 // container, the sand and its parameter sets, the installation, relaxation and load-test rules,
 // and a mesh fineness. From it the scenario writes a complete MPM case (docs/mpm-case-files.md):
 // the graded axisymmetric grid, the sand region with its K0 stress, the pile wished in place and
-// the phases. The defaults are those of docs/study.md §4; docs/centrifuge.md marks the assumed ones.
+// the phases. The defaults are those of docs/study.md §4; docs/centrifuge.md marks the assumed
+// ones.
 #include <optional>
 #include <string>
 #include <vector>

@@ -35,7 +35,8 @@ std::string study_readme(const CalibrationStudyReport& report,
       "element-test and analytical chapters of the Deltares study (docs/study.md §2–§3: oedometer, "
       "cyclic oedometer, drained triaxial, high-pressure triaxial beside Bolton, α after Herle "
       "& Gudehus, sensitivity to α, modified against original set) and adds the "
-      "stress-dependent α option (docs/study.md §5). Stresses and strains are compression positive; strains "
+      "stress-dependent α option (docs/study.md §5). Stresses and strains are compression "
+      "positive; strains "
       "are logarithmic (sums of the increments), in percent. Each item has a CSV with the unit "
       "in every column name and a figure; the element tests behind them are in `tests/`.\n\n",
       report.quick ? " --quick" : "");

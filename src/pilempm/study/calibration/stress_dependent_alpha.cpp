@@ -21,7 +21,8 @@ StressDependentRow compare(const TestResults& tests, const std::string& option,
   StressDependentRow row;
   row.sigma3 = tests.sigma3(option);
   row.initial_void_ratio = tests.summary(option).initial_void_ratio;
-  row.alpha_at_start = tests.test(option).material.hypoplastic().stress_dependence.alpha(row.sigma3);
+  row.alpha_at_start =
+      tests.test(option).material.hypoplastic().stress_dependence.alpha(row.sigma3);
   row.phi_option_deg = tests.summary(option).phi_at_peak_deg;
   row.phi_original_deg = tests.summary(original).phi_at_peak_deg;
   row.phi_modified_deg = tests.summary(modified).phi_at_peak_deg;
