@@ -111,9 +111,9 @@ void register_centrifuge_commands(CLI::App& app) {
     const bool builtin = case_file->empty();
     const std::string text =
         builtin ? std::string(quick_centrifuge_case_text()) : read_case_text(*case_file);
-    const CentrifugeScenario s =
-        read_centrifuge_case_text(text, builtin ? "built-in quick case" : *case_file);
-    fmt::print("{}", centrifuge_mpm_case(s));
+    const std::string source = builtin ? "built-in quick case" : *case_file;
+    const CentrifugeScenario s = read_centrifuge_case_text(text, source);
+    fmt::print("{}", centrifuge_mpm_case_text(centrifuge_case(s, source)));
   });
 }
 

@@ -140,7 +140,8 @@ TEST(CentrifugeCli, CasePrintsTheMpmCaseOfTheQuickCase) {
   const Result from_file = run_pilempm("centrifuge case '" + quick_case_path() + "'");
   ASSERT_EQ(from_file.exit_code, 0) << from_file.output;
   EXPECT_EQ(from_file.output, r.output);
-  EXPECT_EQ(r.output, pilempm::scenario::centrifuge_mpm_case(s));
+  EXPECT_EQ(r.output, pilempm::centrifuge_mpm_case_text(
+                          pilempm::scenario::centrifuge_case(s, "mpm_case.toml")));
 }
 
 TEST(CentrifugeCli, BadCaseFileIsAnErrorNamingTheFileTheLineAndTheKey) {

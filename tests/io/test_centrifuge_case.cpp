@@ -104,7 +104,7 @@ TEST(CentrifugeCase, MinimalFileGivesTheDefaultsOfTheBrief) {
   EXPECT_EQ(s.installation_material, "original");
   EXPECT_FALSE(s.K0.has_value());
   EXPECT_FALSE(s.interface_friction_angle_deg.has_value());
-  EXPECT_TRUE(s.material_tables.empty());
+  EXPECT_TRUE(s.materials.empty());
   EXPECT_EQ(scenario_phase_names(s), (std::vector<std::string>{"initial-stress", "installation",
                                                                "relaxation", "load-test"}));
 }
@@ -213,10 +213,10 @@ TEST(CentrifugeCase, MaterialTableOfTheFileIsTheSandAndIsCopiedIntoTheMpmCase) {
   const CentrifugeScenario s = read_centrifuge_case_text(kOwnMaterial, "centrifuge.toml");
   EXPECT_EQ(s.installation_material, "steep-sand");
   EXPECT_DOUBLE_EQ(s.material_phi_c_deg, 33.0);
-  ASSERT_EQ(s.material_tables.size(), 1u);
+  ASSERT_EQ(s.materials.size(), 1u);
   EXPECT_NEAR(scenario_K0(s), 1.0 - std::sin(33.0 * kDeg), 1e-12);
 
-  const std::string text = centrifuge_mpm_case(s);
+  const std::string text = centrifuge_mpm_case_text(centrifuge_case(s, "mpm_case.toml"));
   const MpmCase c = read_mpm_case_text(text, "mpm_case.toml");
   ASSERT_EQ(c.regions.size(), 3u);  // the fine zone, beside it, below it: one set
   for (const MpmRegion& r : c.regions) EXPECT_EQ(r.material.name, "steep-sand");

@@ -52,6 +52,12 @@ class ParameterSink {
   virtual void boolean(std::string_view key, bool value) = 0;
   virtual void begin_group(std::string_view key) = 0;  ///< a nested group of keys
   virtual void end_group() = 0;
+  /// A number whose key carries a unit of its own: the reader takes value_in_unit * scale as the
+  /// SI value (h_s_MPa: scale 1e6). A writer of case files writes the decimal that reads back to
+  /// `value` exactly; by default number(key, value / scale).
+  virtual void scaled_number(std::string_view key, double value, double scale) {
+    number(key, value / scale);
+  }
 };
 
 /// One model as the registry knows it.
@@ -66,6 +72,10 @@ struct ModelRegistration {
   std::function<void(const ModelParameters&, const IntegratorSettings&, ParameterSink&)> describe;
   /// The coefficient of earth pressure at rest for a geostatic initial stress by default.
   std::function<double(const ModelParameters&)> at_rest_K0;
+  /// Writes the parameters as `read` reads them (the keys of `keys`), so that a [[material]] table
+  /// written with them reads back to the same parameters (io/mpm_case_writer.hpp). Empty: the
+  /// model's materials cannot be written to a case file.
+  std::function<void(const ModelParameters&, ParameterSink&)> write;
 };
 
 /// Builds a registration from functions of the model's own parameter type P.
@@ -92,6 +102,18 @@ ModelRegistration make_model_registration(
                                  ParameterSink& sink) { describe(typed(p), s, sink); };
   r.at_rest_K0 = [at_rest_K0, typed](const ModelParameters& p) { return at_rest_K0(typed(p)); };
   return r;
+}
+
+/// Sets the registration's `write` from a function of the model's own parameter type P.
+template <class P>
+ModelRegistration with_parameter_writer(ModelRegistration registration,
+                                        std::function<void(const P&, ParameterSink&)> write) {
+  registration.write = [write](const ModelParameters& p, ParameterSink& sink) {
+    const P* value = parameters_as<P>(&p);
+    if (value == nullptr) throw Error("model registry: parameters of another model");
+    write(*value, sink);
+  };
+  return registration;
 }
 
 class ModelRegistry {

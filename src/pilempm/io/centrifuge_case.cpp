@@ -5,6 +5,7 @@
 
 #include "pilempm/io/material_reader.hpp"
 #include "pilempm/io/mpm_case.hpp"
+#include "pilempm/io/mpm_case_writer.hpp"
 #include "pilempm/io/toml_reader.hpp"
 
 namespace pilempm {
@@ -19,16 +20,6 @@ PileMotion read_motion(TableReader& t, PileMotion motion) {
   return motion;
 }
 
-// A [[material]] table as the lines of its keys.
-std::string table_lines(const toml::table& table) {
-  std::string out;
-  for (auto&& [key, value] : table) {
-    if (!out.empty()) out += '\n';
-    out += fmt::format("{} = {}", key.str(), toml_text(value));
-  }
-  return out;
-}
-
 }  // namespace
 
 CentrifugeScenario read_centrifuge_case_text(std::string_view text,
@@ -41,11 +32,6 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   // Materials first: the sand may name one of them.
   MaterialCatalog catalog;
   catalog.read(root);
-  if (const toml::array* materials = document["material"].as_array())
-    for (const toml::node& m : *materials)
-      if (const toml::table* table = m.as_table()) s.material_tables.push_back(table_lines(*table));
-  if (const toml::table* integrator = document["integrator"].as_table())
-    s.integrator_table = table_lines(*integrator);
   for (const std::string& name : catalog.names())
     if (const MaterialSpec* material = catalog.find(name); !material->builtin)
       s.materials.push_back(*material);
@@ -198,9 +184,23 @@ CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path) {
   return read_centrifuge_case_text(read_case_text(path), path.string());
 }
 
+std::string centrifuge_mpm_case_text(const simulation::MpmCase& c) {
+  return mpm_case_text(
+      c, {"Written by pilempm from a centrifuge scenario (docs/centrifuge.md); `pilempm mpm run`",
+          "runs it as the centrifuge run ran it. The left side is the axis, the right one the",
+          "container wall (smooth), the bottom its floor; the sand regions tile the container, the",
+          "pile is wished in place."});
+}
+
 simulation::MpmCase centrifuge_to_mpm_case(const CentrifugeScenario& scenario,
                                            const std::string& source_name) {
-  return read_mpm_case_text(centrifuge_mpm_case(scenario), source_name);
+  std::string text;
+  try {
+    text = centrifuge_mpm_case_text(centrifuge_case(scenario, source_name));
+  } catch (const InvalidValue& e) {
+    throw InputError(source_name, 0, e.key(), e.value(), e.allowed());
+  }
+  return read_mpm_case_text(text, source_name);
 }
 
 }  // namespace pilempm

@@ -19,8 +19,12 @@ scenario::CentrifugeScenario read_centrifuge_case(const std::filesystem::path& p
 scenario::CentrifugeScenario read_centrifuge_case_text(std::string_view text,
                                                        const std::string& source_name);
 
-/// The MPM case of a scenario (read from the text centrifuge_mpm_case writes; `source_name`
-/// names it in messages).
+/// The MPM case file text of a scenario's typed case (scenario::centrifuge_case), as
+/// `centrifuge run` writes it for the record (mpm_case.toml) and `centrifuge case` prints it.
+std::string centrifuge_mpm_case_text(const simulation::MpmCase& c);
+
+/// The MPM case of a scenario as `pilempm mpm run` reads it from that text (so with the checks
+/// of the case-file reader); `source_name` names it in messages. Throws InputError.
 simulation::MpmCase centrifuge_to_mpm_case(const scenario::CentrifugeScenario& scenario,
                                            const std::string& source_name);
 

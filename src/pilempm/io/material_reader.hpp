@@ -84,6 +84,8 @@ class MaterialCatalog {
   /// Every name `find` knows, the document's materials first.
   std::vector<std::string> names() const;
 
+  /// The document's [[material]] tables, in order (not the built-in sets).
+  const std::vector<MaterialSpec>& materials() const { return materials_; }
   const IntegratorSettings& integrator() const { return integrator_; }
   void set_integrator(const IntegratorSettings& settings) { integrator_ = settings; }
 

@@ -40,8 +40,8 @@ mpm::BoundaryCondition parse_boundary(const std::string& text) {
   return mpm::BoundaryCondition::free;
 }
 
-// One axis of [grid]: [grid.x] or [grid.y].
-std::vector<double> read_axis(TableReader& grid, std::string_view key) {
+// One axis of [grid]: [grid.x] or [grid.y], with its nodes.
+MpmGridAxis read_axis(TableReader& grid, std::string_view key, std::vector<double>& nodes) {
   std::optional<TableReader> axis = grid.table(key);
   if (!axis)
     throw grid.missing(key, fmt::format("the {} axis: a table with spacing = \"uniform\" or "
@@ -50,25 +50,28 @@ std::vector<double> read_axis(TableReader& grid, std::string_view key) {
   const std::string spacing = axis->choice("spacing", {"uniform", "graded"});
   axis->declare({"min_m", "max_m", "cells", "band_min_m", "band_max_m", "fine_spacing_m",
                  "growth_ratio", "max_spacing_m"});
-  const double start = axis->number("min_m", NumberRange::any());
-  const double end = axis->number("max_m", NumberRange::above(start));
+  MpmGridAxis a;
+  a.min = axis->number("min_m", NumberRange::any());
+  a.max = axis->number("max_m", NumberRange::above(a.min));
   try {
     if (spacing == "uniform") {
-      const int cells = axis->integer("cells", 1, kMaxCells);
+      a.cells = axis->integer("cells", 1, kMaxCells);
       axis->check_no_unknown_keys();
-      return mpm::GridAxis::uniform(start, end, cells).nodes();
+      nodes = a.nodes();
+      return a;
     }
-    const double band_start = axis->number("band_min_m", NumberRange::closed(start, end));
-    const double band_end = axis->number("band_max_m", NumberRange::left_open(band_start, end));
-    const double fine = axis->number("fine_spacing_m", NumberRange::positive());
-    const double growth = axis->number("growth_ratio", NumberRange::closed(1.0, 10.0));
-    const double max_spacing =
-        axis->number_or("max_spacing_m", NumberRange::kInf, NumberRange::at_least(fine));
+    a.graded = true;
+    a.band_min = axis->number("band_min_m", NumberRange::closed(a.min, a.max));
+    a.band_max = axis->number("band_max_m", NumberRange::left_open(a.band_min, a.max));
+    a.fine_spacing = axis->number("fine_spacing_m", NumberRange::positive());
+    a.growth_ratio = axis->number("growth_ratio", NumberRange::closed(1.0, 10.0));
+    a.max_spacing =
+        axis->number_or("max_spacing_m", NumberRange::kInf, NumberRange::at_least(a.fine_spacing));
     axis->check_no_unknown_keys();
-    if ((end - start) / fine > kMaxCells)
+    if ((a.max - a.min) / a.fine_spacing > kMaxCells)
       throw axis->error("fine_spacing_m", fmt::format("too small: more than {} cells", kMaxCells));
-    return mpm::GridAxis::graded(start, end, band_start, band_end, fine, growth, max_spacing)
-        .nodes();
+    nodes = a.nodes();
+    return a;
   } catch (const InvalidValue& e) {
     throw axis->error_from(e);
   }
@@ -353,8 +356,8 @@ MpmCase read_mpm_case_text(std::string_view text, const std::string& source_name
 
   std::optional<TableReader> grid = root.table("grid");
   if (!grid) throw root.missing("grid", "[grid] with [grid.x] and [grid.y]");
-  c.x_nodes = read_axis(*grid, "x");
-  c.y_nodes = read_axis(*grid, "y");
+  c.x_axis = read_axis(*grid, "x", c.x_nodes);
+  c.y_axis = read_axis(*grid, "y", c.y_nodes);
   grid->check_no_unknown_keys();
   if (c.geometry == mpm::Geometry::axisymmetric && c.x_nodes.front() != 0.0)
     throw InputError(source_name, grid->line(), "grid.x.min_m", fmt::format("{}", c.x_nodes[0]),
@@ -373,6 +376,8 @@ MpmCase read_mpm_case_text(std::string_view text, const std::string& source_name
 
   MaterialCatalog catalog;
   catalog.read(root);
+  c.integrator = catalog.integrator();
+  c.materials = catalog.materials();
 
   std::vector<TableReader> regions = root.tables("region");
   std::vector<TableReader> bodies = root.tables("body");

@@ -5,6 +5,7 @@
 // phases with their body motions, stop rules and material changes. Everything is SI. The case
 // files are read into it by io/mpm_case.hpp; a scenario may build it directly.
 #include <array>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -146,13 +147,39 @@ struct MpmPhase {
   std::vector<MpmMaterialChange> material_changes;
 };
 
+/// One axis of the grid as a case file gives it ([grid.x], [grid.y]): equal cells, or a band of
+/// fine cells with cells growing away from it (mpm::GridAxis). Its nodes are MpmCase::x_nodes or
+/// y_nodes; a case file is written from it.
+struct MpmGridAxis {
+  bool graded = false;
+  double min = 0.0, max = 1.0;            ///< [m]
+  int cells = 1;                          ///< uniform
+  double band_min = 0.0, band_max = 0.0;  ///< graded: the fine band [m]
+  double fine_spacing = 0.0;              ///< graded: the cell size in the band [m]
+  double growth_ratio = 1.0;              ///< graded: of neighbouring cells outside the band
+  double max_spacing = std::numeric_limits<double>::infinity();  ///< graded: largest cell [m]
+
+  /// The node coordinates [m] (throws InvalidValue as mpm::GridAxis does).
+  std::vector<double> nodes() const {
+    return graded ? mpm::GridAxis::graded(min, max, band_min, band_max, fine_spacing, growth_ratio,
+                                          max_spacing)
+                        .nodes()
+                  : mpm::GridAxis::uniform(min, max, cells).nodes();
+  }
+};
+
 struct MpmCase {
   std::string source;  ///< the file name used in messages
   std::string title;
   mpm::Geometry geometry = mpm::Geometry::plane_strain;
-  std::vector<double> x_nodes, y_nodes;                ///< grid node coordinates [m]
+  MpmGridAxis x_axis, y_axis;                          ///< the grid as given
+  std::vector<double> x_nodes, y_nodes;                ///< their node coordinates [m]
   std::array<mpm::BoundaryCondition, 4> boundaries{};  ///< by mpm::Side
-  mpm::SolverSettings solver;               ///< the settings of [solver]; phases override some
+  mpm::SolverSettings solver;     ///< the settings of [solver]; phases override some
+  IntegratorSettings integrator;  ///< of the models that integrate rates ([integrator])
+  /// The case's own [[material]] tables (a region's or a phase's material is one of them or a
+  /// built-in set).
+  std::vector<MaterialSpec> materials;
   std::vector<std::string> material_names;  ///< index -> name (the regions' materials)
   std::vector<ModelPtr> models;             ///< index -> model
   std::vector<MpmRegion> regions;

@@ -362,8 +362,8 @@ std::string centrifuge_summary_csv(const CentrifugeSummary& r) {
 CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string& case_text,
                                  const std::filesystem::path& out_dir, std::ostream* progress,
                                  const CentrifugeRunOptions& options) {
-  const std::string mpm_text = centrifuge_mpm_case(s);
   const MpmCase mpm_case = centrifuge_case(s, (out_dir / "mpm_case.toml").string());
+  const std::string mpm_text = centrifuge_mpm_case_text(mpm_case);
   prepare_output_directory(out_dir);
   if (!case_text.empty()) write_file_atomically(out_dir / "case.toml", case_text);
   write_file_atomically(out_dir / "mpm_case.toml", mpm_text);

@@ -65,6 +65,26 @@ IgsChoice read_igs(ParameterSource& reader, std::string_view key) {
   return choice;
 }
 
+void write_igs(const IgsChoice& igs, std::string_view key, ParameterSink& out) {
+  const std::vector<std::string> names = igs_choice_names();
+  if (std::find(names.begin(), names.end(), igs.name) != names.end()) {
+    out.text(key, igs.name);
+    return;
+  }
+  out.begin_group(key);
+  const std::string_view prefix = "custom (base ";
+  if (igs.name.starts_with(prefix) && igs.name.ends_with(")"))
+    out.text("base",
+             std::string_view(igs.name).substr(prefix.size(), igs.name.size() - prefix.size() - 1));
+  const IntergranularStrainParameters& p = igs.parameters;
+  out.number("m_R", p.m_R);
+  out.number("m_T", p.m_T);
+  out.number("R", p.R);
+  out.number("beta_r", p.beta_r);
+  out.number("chi", p.chi);
+  out.end_group();
+}
+
 HypoplasticMaterial read_hypoplastic_material(ParameterSource& t) {
   HypoplasticMaterial m;
   if (auto base = t.optional_choice("base", hypoplastic_set_names())) {
@@ -153,22 +173,52 @@ void describe(const HypoplasticMaterial& m, const IntegratorSettings& integrator
   out.end_group();
 }
 
+// The keys read_hypoplastic_material reads: every parameter is written (a base set's too, so
+// that the table says what the model uses).
+void write(const HypoplasticMaterial& m, ParameterSink& out) {
+  if (!m.base.empty()) out.text("base", m.base);
+  const HypoplasticParameters& p = m.parameters;
+  out.number("phi_c_deg", p.phi_c_deg);
+  out.scaled_number("h_s_MPa", p.h_s, kMPa);
+  out.number("n", p.n);
+  out.number("e_d0", p.e_d0);
+  out.number("e_c0", p.e_c0);
+  out.number("e_i0", p.e_i0);
+  out.number("alpha", p.alpha);
+  out.number("beta", p.beta);
+  if (m.igs) write_igs(*m.igs, "igs", out);
+  if (p.stress_dependence.enabled()) {
+    const StressDependence& d = p.stress_dependence;
+    out.begin_group("stress_dependence");
+    out.boolean("alpha", d.alpha_varies);
+    out.number("alpha_low", d.alpha_low);
+    out.number("alpha_high", d.alpha_high);
+    out.scaled_number("p_low_kPa", d.p_low, kKPa);
+    out.scaled_number("p_high_kPa", d.p_high, kKPa);
+    out.boolean("rohe_void_ratios", d.rohe_void_ratios);
+    out.end_group();
+  }
+}
+
 }  // namespace
 
 ModelRegistration hypoplastic_registration() {
-  return make_model_registration<HypoplasticMaterial>(
-      "hypoplastic",
-      {"base", "phi_c_deg", "h_s_MPa", "n", "e_d0", "e_c0", "e_i0", "alpha", "beta", "igs",
-       "stress_dependence"},
-      read_hypoplastic_material,
-      [](const HypoplasticMaterial& m, const IntegratorSettings& integrator) -> ModelPtr {
-        return std::make_shared<Hypoplastic>(
-            m.parameters, m.igs ? m.igs->parameters : IntergranularStrainParameters{}, integrator);
-      },
-      describe,
-      [](const HypoplasticMaterial& m) {  // Jáky
-        return 1.0 - std::sin(m.parameters.phi_c_deg * kPi / 180.0);
-      });
+  return with_parameter_writer<HypoplasticMaterial>(
+      make_model_registration<HypoplasticMaterial>(
+          "hypoplastic",
+          {"base", "phi_c_deg", "h_s_MPa", "n", "e_d0", "e_c0", "e_i0", "alpha", "beta", "igs",
+           "stress_dependence"},
+          read_hypoplastic_material,
+          [](const HypoplasticMaterial& m, const IntegratorSettings& integrator) -> ModelPtr {
+            return std::make_shared<Hypoplastic>(
+                m.parameters, m.igs ? m.igs->parameters : IntergranularStrainParameters{},
+                integrator);
+          },
+          describe,
+          [](const HypoplasticMaterial& m) {  // Jáky
+            return 1.0 - std::sin(m.parameters.phi_c_deg * kPi / 180.0);
+          }),
+      write);
 }
 
 }  // namespace pilempm

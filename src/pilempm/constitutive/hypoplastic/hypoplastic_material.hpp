@@ -34,6 +34,10 @@ struct HypoplasticMaterial {
 /// optionally with base = "<IGS set>" and single overrides.
 IgsChoice read_igs(ParameterSource& source, std::string_view key);
 
+/// Writes an igs value as read_igs reads it back: the set's name, or an inline table (with the
+/// base set its name records, "custom (base IGS2)").
+void write_igs(const IgsChoice& igs, std::string_view key, ParameterSink& sink);
+
 /// Reads the keys of a hypoplastic [[material]] (see hypoplastic_registration's keys).
 HypoplasticMaterial read_hypoplastic_material(ParameterSource& source);
 

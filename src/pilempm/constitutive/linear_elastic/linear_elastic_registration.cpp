@@ -24,17 +24,22 @@ ElasticParameters read(ParameterSource& t) {
 }  // namespace
 
 ModelRegistration linear_elastic_registration() {
-  return make_model_registration<ElasticParameters>(
-      "linear-elastic", {"young_modulus_MPa", "poisson_ratio"}, read,
-      [](const ElasticParameters& p, const IntegratorSettings&) -> ModelPtr {
-        return std::make_shared<LinearElastic>(p);
-      },
-      [](const ElasticParameters& p, const IntegratorSettings&, ParameterSink& out) {
-        out.number("young_modulus_MPa", p.young_modulus / kMPa);
+  return with_parameter_writer<ElasticParameters>(
+      make_model_registration<ElasticParameters>(
+          "linear-elastic", {"young_modulus_MPa", "poisson_ratio"}, read,
+          [](const ElasticParameters& p, const IntegratorSettings&) -> ModelPtr {
+            return std::make_shared<LinearElastic>(p);
+          },
+          [](const ElasticParameters& p, const IntegratorSettings&, ParameterSink& out) {
+            out.number("young_modulus_MPa", p.young_modulus / kMPa);
+            out.number("poisson_ratio", p.poisson_ratio);
+          },
+          [](const ElasticParameters& p) {  // oedometric ν / (1 - ν)
+            return p.poisson_ratio / (1.0 - p.poisson_ratio);
+          }),
+      [](const ElasticParameters& p, ParameterSink& out) {
+        out.scaled_number("young_modulus_MPa", p.young_modulus, kMPa);
         out.number("poisson_ratio", p.poisson_ratio);
-      },
-      [](const ElasticParameters& p) {  // oedometric ν / (1 - ν)
-        return p.poisson_ratio / (1.0 - p.poisson_ratio);
       });
 }
 

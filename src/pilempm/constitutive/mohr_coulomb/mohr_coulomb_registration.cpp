@@ -51,21 +51,34 @@ void describe(const MohrCoulombParameters& p, const IntegratorSettings&, Paramet
   out.number("tension_cutoff_kPa", p.tension_cutoff / kKPa);  // no value: no cut-off
 }
 
+// The keys `read` reads; no tension_cutoff_kPa when there is no cut-off.
+void write(const MohrCoulombParameters& p, ParameterSink& out) {
+  out.scaled_number("young_modulus_MPa", p.young_modulus, kMPa);
+  out.number("poisson_ratio", p.poisson_ratio);
+  out.scaled_number("cohesion_kPa", p.cohesion, kKPa);
+  out.number("friction_angle_deg", p.friction_angle_deg);
+  out.number("dilatancy_angle_deg", p.dilatancy_angle_deg);
+  if (std::isfinite(p.tension_cutoff))
+    out.scaled_number("tension_cutoff_kPa", p.tension_cutoff, kKPa);
+}
+
 }  // namespace
 
 ModelRegistration mohr_coulomb_registration() {
-  return make_model_registration<MohrCoulombParameters>(
-      "mohr-coulomb",
-      {"young_modulus_MPa", "poisson_ratio", "cohesion_kPa", "friction_angle_deg",
-       "dilatancy_angle_deg", "tension_cutoff_kPa"},
-      read,
-      [](const MohrCoulombParameters& p, const IntegratorSettings&) -> ModelPtr {
-        return std::make_shared<MohrCoulomb>(p);
-      },
-      describe,
-      [](const MohrCoulombParameters& p) {  // Jáky with the friction angle
-        return 1.0 - std::sin(p.friction_angle_deg * kPi / 180.0);
-      });
+  return with_parameter_writer<MohrCoulombParameters>(
+      make_model_registration<MohrCoulombParameters>(
+          "mohr-coulomb",
+          {"young_modulus_MPa", "poisson_ratio", "cohesion_kPa", "friction_angle_deg",
+           "dilatancy_angle_deg", "tension_cutoff_kPa"},
+          read,
+          [](const MohrCoulombParameters& p, const IntegratorSettings&) -> ModelPtr {
+            return std::make_shared<MohrCoulomb>(p);
+          },
+          describe,
+          [](const MohrCoulombParameters& p) {  // Jáky with the friction angle
+            return 1.0 - std::sin(p.friction_angle_deg * kPi / 180.0);
+          }),
+      write);
 }
 
 }  // namespace pilempm

@@ -39,22 +39,6 @@ std::vector<double> installation_stops_D(const CentrifugeScenario& s) {
   return stops;
 }
 
-// A TOML basic string: the text in double quotes with '"', '\\' and control characters escaped.
-std::string toml_string(const std::string& text) {
-  std::string out = "\"";
-  for (char ch : text) {
-    if (ch == '"' || ch == '\\') {
-      out += '\\';
-      out += ch;
-    } else if (static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) {
-      out += fmt::format("\\u{:04x}", static_cast<unsigned>(static_cast<unsigned char>(ch)));
-    } else {
-      out += ch;
-    }
-  }
-  return out + "\"";
-}
-
 std::string depth_label(double depth_D) {
   return fmt::format("{:g}D", depth_D);
 }
@@ -170,157 +154,10 @@ ScenarioGrid scenario_grid(const CentrifugeScenario& s) {
 
 }  // namespace
 
-std::string centrifuge_mpm_case(const CentrifugeScenario& s) {
-  validate(s);
-  const double D = s.pile_diameter;
-  const auto [h, H, R, band_bottom, top, fine_radius] = scenario_grid(s);
-
-  std::string t;
-  auto line = [&t](const std::string& text) {
-    t += text;
-    t += '\n';
-  };
-  line("# Written by pilempm from a centrifuge scenario (docs/centrifuge.md).");
-  line("title = " + toml_string(s.title));
-  line("");
-  line("[geometry]");
-  line("kind = \"axisymmetric\"");
-  line("");
-  line("[grid.x]");
-  line("spacing = \"graded\"");
-  line(fmt::format("min_m = 0.0\nmax_m = {:.9g}", R));
-  line(fmt::format("band_min_m = 0.0\nband_max_m = {:.9g}", fine_radius));
-  line(fmt::format("fine_spacing_m = {:.9g}\ngrowth_ratio = {:.9g}", h, s.growth_ratio));
-  line("");
-  line("[grid.y]");
-  line("spacing = \"graded\"");
-  line(fmt::format("min_m = 0.0\nmax_m = {:.9g}", top));
-  line(fmt::format("band_min_m = {:.9g}\nband_max_m = {:.9g}", band_bottom, top));
-  line(fmt::format("fine_spacing_m = {:.9g}\ngrowth_ratio = {:.9g}", h, s.growth_ratio));
-  line("");
-  line("[boundaries]");
-  line("right = \"roller\"   # the container wall, smooth");
-  line("bottom = \"fixed\"   # the container floor");
-  line("");
-  line("[solver]");
-  line(fmt::format("gravity_m_per_s2 = {:.9g}", s.gravity));
-  line(fmt::format("gravity_multiplier = {:.9g}", s.g_level));
-  line(fmt::format("mass_scaling = {:.9g}", s.mass_scaling));
-  line(fmt::format("courant_number = {:.9g}", s.courant_number));
-  line(fmt::format("flip_fraction = {:.9g}", s.flip_fraction));
-  line(fmt::format("xpic_order = {}", s.xpic_order));
-  line(fmt::format("threads = {}", s.threads));
-  line(fmt::format("volumetric_smoothing = {}", s.volumetric_smoothing ? "true" : "false"));
-  line(fmt::format("local_damping = {:.9g}", s.damping));
-  if (!s.integrator_table.empty()) {
-    line("");
-    line("[integrator]");
-    line(s.integrator_table);
-  }
-  for (const std::string& table : s.material_tables) {
-    line("");
-    line("[[material]]");
-    line(table);
-  }
-  // The sand: one region, or, with fewer particles outside the fine zone, the fine zone and the
-  // two rectangles around it (beside it to the wall; below it on the axis side). Their edges
-  // are grid lines, so the three tile the container as the one region does.
-  auto region = [&](const std::string& name, double x_min, double x_max, double y_min, double y_max,
-                    int per_cell) {
-    line("");
-    line("[[region]]");
-    line(fmt::format("name = \"{}\"", name));
-    line(fmt::format("x_min_m = {:.9g}\nx_max_m = {:.9g}\ny_min_m = {:.9g}\ny_max_m = {:.9g}",
-                     x_min, x_max, y_min, y_max));
-    line(fmt::format("particles_per_cell = {}", per_cell));
-    line(fmt::format("density_kg_per_m3 = {:.9g}", s.sand_density()));
-    line("material = " + toml_string(s.installation_material));
-    line(fmt::format("igs = \"{}\"", s.igs));
-    line("initial_stress = \"geostatic\"");
-    line(fmt::format("K0 = {:.9g}", scenario_K0(s)));
-    line(fmt::format("e0 = {:.9g}", s.e0));
-    line(fmt::format("e0_at = \"{}\"", s.e0_at));
-  };
-  const int outside = s.particles_per_cell_outside;
-  if (outside == s.particles_per_cell) {
-    region("sand", 0.0, R, 0.0, H, s.particles_per_cell);
-  } else {
-    region("sand", 0.0, fine_radius, band_bottom, H, s.particles_per_cell);
-    region("sand-beside", fine_radius, R, 0.0, H, outside);
-    region("sand-below", 0.0, fine_radius, 0.0, band_bottom, outside);
-  }
-  line("");
-  line("[[body]]");
-  line("name = \"pile\"");
-  line("kind = \"pile\"");
-  line(fmt::format("radius_m = {:.9g}", s.pile_radius()));
-  line(fmt::format("tip_y_m = {:.9g}", s.initial_tip_y()));
-  line(fmt::format("tip = \"{}\"", s.tip));
-  if (s.tip == "conical") line(fmt::format("apex_angle_deg = {:.9g}", s.apex_angle_deg));
-  line(fmt::format("interface_friction_angle_deg = {:.9g}", scenario_interface_friction_deg(s)));
-
-  // The phases.
-  auto phase_header = [&](const std::string& name, double duration, double record_time) {
-    line("");
-    line("[[phase]]");
-    line(fmt::format("name = \"{}\"", name));
-    for (const ScenarioPhase& phase : scenario_phases(s))
-      if (phase.name == name) line(fmt::format("role = \"{}\"", to_string(phase.role)));
-    line(fmt::format("duration_s = {:.9g}", duration));
-    line(fmt::format("energy_interval_s = {:.9g}", std::min(record_time, duration)));
-  };
-  auto motion = [&](double direction, const PileMotion& m) {
-    line("[phase.body.pile]");
-    line(fmt::format("velocity_y_m_per_s = {:.9g}", direction * m.velocity));
-    line(fmt::format("ramp_s = {:.9g}", m.ramp));
-  };
-
-  phase_header("initial-stress", s.initial_stress_time, s.initial_stress_time / 20.0);
-  line("kind = \"geostatic\"");
-  line(fmt::format("local_damping = {:.9g}", s.initial_stress_damping));
-
-  const double record = s.record_interval_D * D;
-  if (s.installation_D > 0.0) {
-    const std::vector<double> stops = installation_stops_D(s);
-    double from = s.wished_in_place_D;
-    for (std::size_t k = 0; k < stops.size(); ++k) {
-      const bool last = k + 1 == stops.size();
-      const std::string name = last ? "installation" : "installation-to-" + depth_label(stops[k]);
-      phase_header(name, phase_duration((stops[k] - from) * D, s.jacking),
-                   record / s.jacking.velocity);
-      line(fmt::format("stop_displacement_y_m = {:.9g}", -(stops[k] - s.wished_in_place_D) * D));
-      if (!last) line("checkpoint = false");
-      motion(-1.0, s.jacking);
-      from = stops[k];
-    }
-    if (s.relaxation) {
-      const double travel = s.relaxation_max_D * D;
-      phase_header("relaxation", phase_duration(travel, s.relaxation_motion),
-                   0.1 * record / s.relaxation_motion.velocity);
-      line("stop_force_y_below_N = 0.0");
-      line(fmt::format("stop_force_averaging_s = {:.9g}", s.relaxation_force_averaging));
-      line(fmt::format("stop_phase_displacement_y_m = {:.9g}", travel));
-      motion(1.0, s.relaxation_motion);
-    }
-  }
-  if (s.load_test_D > 0.0) {
-    const double travel = s.load_test_D * D;
-    phase_header("load-test", phase_duration(travel, s.load_test_motion),
-                 0.1 * record / s.load_test_motion.velocity);
-    line(fmt::format("stop_phase_displacement_y_m = {:.9g}", -travel));
-    motion(-1.0, s.load_test_motion);
-    if (!s.load_test_material.empty() && s.load_test_material != s.installation_material) {
-      line("[phase.materials]");
-      line(toml_string(s.installation_material) + " = " + toml_string(s.load_test_material));
-    }
-  }
-  return t;
-}
-
 namespace {
 
-// A value as the case file of the scenario carries it: 9 significant digits, the precision of
-// mpm_case.toml, so that the run of the typed case and the run of that file are the same.
+// A value rounded to 9 significant digits: the case's numbers are those a person would write in
+// a case file (and mpm_case.toml, written from the case, shows them so).
 double file_value(double value) {
   return std::strtod(fmt::format("{:.9g}", value).c_str(), nullptr);
 }
@@ -345,12 +182,22 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
   c.source = source_name;
   c.title = s.title;
   c.geometry = mpm::Geometry::axisymmetric;
-  const double inf = std::numeric_limits<double>::infinity();
-  c.x_nodes =
-      mpm::GridAxis::graded(0.0, v(R), 0.0, v(fine_radius), v(h), v(s.growth_ratio), inf).nodes();
-  c.y_nodes =
-      mpm::GridAxis::graded(0.0, v(top), v(band_bottom), v(top), v(h), v(s.growth_ratio), inf)
-          .nodes();
+  // Fine cells of size h near the axis (x) and from below the deepest tip to the top (y).
+  auto graded = [&](double max, double band_min, double band_max) {
+    MpmGridAxis axis;
+    axis.graded = true;
+    axis.min = 0.0;
+    axis.max = v(max);
+    axis.band_min = v(band_min);
+    axis.band_max = v(band_max);
+    axis.fine_spacing = v(h);
+    axis.growth_ratio = v(s.growth_ratio);
+    return axis;
+  };
+  c.x_axis = graded(R, 0.0, fine_radius);
+  c.y_axis = graded(top, band_bottom, top);
+  c.x_nodes = c.x_axis.nodes();
+  c.y_nodes = c.y_axis.nodes();
   c.boundaries.fill(mpm::BoundaryCondition::free);
   c.boundaries[static_cast<std::size_t>(mpm::Side::right)] = mpm::BoundaryCondition::roller;
   c.boundaries[static_cast<std::size_t>(mpm::Side::bottom)] = mpm::BoundaryCondition::fixed;
@@ -365,6 +212,8 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
   solver.volumetric_smoothing = s.volumetric_smoothing;
   solver.local_damping = v(s.damping);
   solver.geometry = c.geometry;
+  c.integrator = s.integrator;
+  c.materials = s.materials;
 
   // The sand: one region, or the fine zone and the two rectangles around it.
   const MaterialSpec sand = scenario_material(s, s.installation_material);

@@ -1,7 +1,7 @@
 #pragma once
 // The centrifuge pile test (docs/study.md §4) described by its physics: the pile, the g-level, the
 // container, the sand and its parameter sets, the installation, relaxation and load-test rules,
-// and a mesh fineness. From it the scenario writes a complete MPM case (docs/mpm-case-files.md):
+// and a mesh fineness. From it the scenario builds a complete MPM case (docs/mpm-case-files.md):
 // the graded axisymmetric grid, the sand region with its K0 stress, the pile wished in place and
 // the phases. The defaults are those of docs/study.md §4; docs/centrifuge.md marks the assumed
 // ones.
@@ -31,8 +31,8 @@ struct CentrifugeScenario {
   double container_radius_D = 26.0;
   double sand_height_D = 35.0;
 
-  // The sand. A material is a built-in set name or the name of a [[material]] table whose TOML
-  // text is in `material_tables` (the scenario copies it into the case).
+  // The sand. A material is a built-in set name or the name of one of `materials` (the
+  // scenario's [[material]] tables, which become the case's).
   double e0 = 0.68;
   std::string e0_at = "initial-stress";  ///< "initial-stress" or "zero-pressure"
   std::optional<double> density;         ///< [kg/m^3]; default ρ_d = G_s ρ_w / (1 + e0)
@@ -41,8 +41,6 @@ struct CentrifugeScenario {
   std::string igs = "IGS3";
   std::string installation_material = "original";  ///< the set of the K0 and installation phases
   std::string load_test_material;                  ///< "" = the installation set
-  std::vector<std::string> material_tables;        ///< [[material]] tables as TOML text
-  std::string integrator_table;                    ///< an [integrator] table as TOML text, or ""
   std::vector<MaterialSpec> materials;  ///< the [[material]] tables as read (the typed case's)
   IntegratorSettings integrator{};      ///< the [integrator] table as read
   /// φ_c of the installation set when it is a [[material]] table [deg] (the reader sets it;
@@ -136,15 +134,11 @@ std::vector<ScenarioPhase> scenario_phases(const CentrifugeScenario& scenario);
 /// Their names.
 std::vector<std::string> scenario_phase_names(const CentrifugeScenario& scenario);
 
-/// The MPM case file text of the scenario (docs/mpm-case-files.md), written for the record as
-/// mpm_case.toml: read back, it is centrifuge_case's case and runs the same.
-std::string centrifuge_mpm_case(const CentrifugeScenario& scenario);
-
 /// The typed MPM case of the scenario, built directly: the graded axisymmetric grid, the sand
 /// regions with their K0 stress, the pile wished in place and the phases with their roles. Its
-/// numbers are those of centrifuge_mpm_case's text (9 significant digits), so that the file
-/// written for the record runs the same. `source_name` names the case in messages. Throws
-/// InvalidValue as validate() does.
+/// numbers have 9 significant digits, as a person would write them; io/mpm_case_writer.hpp
+/// writes it for the record as mpm_case.toml, which runs the same. `source_name` names the case
+/// in messages. Throws InvalidValue as validate() does.
 simulation::MpmCase centrifuge_case(const CentrifugeScenario& scenario,
                                     const std::string& source_name);
 
