@@ -1,78 +1,23 @@
 // Calibration: the misfit, the recovery of known parameter sets from noisy synthetic data made
-// by pilempm itself, the stability of the fit from different starting sets, and the use of the
-// fitted set (docs/calibration.md).
+// by pilempm itself and the stability of the fit from different starting sets
+// (docs/calibration.md). The use of the fitted set in a case file is tested with the writer of
+// parameters.toml (tests/io/test_calibration_output.cpp).
 #include <gtest/gtest.h>
 
 #include <cmath>
 
+#include "../support/calibration_builders.hpp"
 #include "pilempm/calibration/fit.hpp"
-#include "pilempm/io/calibration_output.hpp"
-#include "pilempm/io/element_case.hpp"
 
 namespace {
 
 using namespace pilempm;
 using namespace pilempm::calibration;
 
-constexpr double kKPa = 1e3;
-
-LabTest lab(const std::string& name, ElementTest test, double e0) {
-  LabTest t;
-  t.name = name;
-  t.test = std::move(test);
-  t.initial.e0 = e0;
-  t.initial.e0_at = VoidRatioConvention::at_initial_stress;
-  t.abscissa_column = abscissa_column_of(t.test);
-  for (const std::string& c : default_quantities_of(t.test)) t.quantities.push_back({c, {}, 1.0});
-  return t;
-}
-
-DrainedTriaxialTest triaxial(double sigma3_kPa, int steps) {
-  DrainedTriaxialTest t;
-  t.sigma3 = sigma3_kPa * kKPa;
-  t.axial_strain = 0.2;
-  t.steps = steps;
-  return t;
-}
-
-// The tests of the checks: oedometer, isotropic compression and drained triaxial tests at three
-// confining pressures (dense) and one loose, as in examples/calibration/baskarp.toml, with
-// coarser programmes to keep the default suite fast.
-CalibrationProblem problem_of(const std::string& base, double dense_e0, double loose_e0,
-                              int steps) {
-  CalibrationProblem p;
-  p.base_set = base;
-  p.base.hypoplastic = hypoplastic_set(base);
-  p.base.igs = intergranular_strain_set("IGS3");
-  p.integrator.tolerance = 1e-3;
-  IsotropicCompressionTest iso;
-  iso.p0 = 10 * kKPa;
-  iso.p_end = 5000 * kKPa;
-  iso.steps = steps;
-  p.tests.push_back(lab("iso", iso, loose_e0 - 0.05));
-  OedometerTest oed;
-  oed.sigma_v0 = 10 * kKPa;
-  oed.K0 = 1.0 - std::sin(p.base.hypoplastic.phi_c_deg * kPi / 180.0);
-  oed.sigma_v_targets = {2000 * kKPa};
-  oed.steps_per_segment = steps;
-  p.tests.push_back(lab("oed", oed, loose_e0 - 0.1));
-  for (double s3 : {50.0, 100.0, 200.0})
-    p.tests.push_back(lab("tx-dense-" + std::to_string(int(s3)), triaxial(s3, steps), dense_e0));
-  p.tests.push_back(lab("tx-loose", triaxial(100.0, steps), loose_e0));
-  p.free = {{ParameterId::phi_c_deg, 25, 40, {}}, {ParameterId::h_s_MPa, 500, 20000, {}},
-            {ParameterId::n, 0.2, 0.7, {}},       {ParameterId::e_d0, 0.4, 0.7, {}},
-            {ParameterId::e_c0, 0.7, 1.1, {}},    {ParameterId::e_i0, 0.9, 1.4, {}},
-            {ParameterId::alpha, 0.01, 0.5, {}},  {ParameterId::beta, 0.5, 2.0, {}}};
-  p.max_iterations = 30;
-  return p;
-}
-
-ParameterSet truth_of(const std::string& set) {
-  ParameterSet s;
-  s.hypoplastic = hypoplastic_set(set);
-  s.igs = intergranular_strain_set("IGS3");
-  return s;
-}
+using test_support::kKPa;
+using test_support::lab;
+using test_support::problem_of;
+using test_support::truth_of;
 
 constexpr double kNoise = 0.01;  // standard deviation: 1 % of each quantity's range
 
@@ -200,33 +145,6 @@ TEST(CalibrationStability, ThreeStartingSetsEndAtTheSameParameters) {
     EXPECT_NEAR(a.alpha, b.alpha, 0.01) << "start " << k;
     EXPECT_NEAR(a.beta, b.beta, 0.05) << "start " << k;
   }
-}
-
-// The parameters.toml of a fit is a [[material]] that an element case accepts unchanged, and
-// the element test with it gives the fitted curve.
-TEST(CalibrationOutput, ParametersTomlRunsUnchangedInAnElementTest) {
-  CalibrationProblem p = problem_of("original", 0.60, 0.80, 40);
-  p.material_name = "fitted-sand";
-  ParameterSet s = truth_of("original");
-  s.hypoplastic.phi_c_deg = 32.25;
-  s.hypoplastic.alpha = 0.1375;
-  const std::string material = parameters_toml(p, s, "test");
-  const std::string text = material +
-                           "\n[[test]]\nname = \"tx\"\ntype = \"triaxial\"\nset = \"fitted-sand\"\n"
-                           "e0 = 0.6\ne0_at = \"initial-stress\"\nsigma3_kPa = 100\n"
-                           "axial_strain = 0.2\nsteps = 40\n";
-  const ElementCaseFile file = parse_element_case(text, "parameters.toml + test");
-  ASSERT_EQ(file.tests.size(), 1u);
-  const ElementCase& c = file.tests.front();
-  EXPECT_DOUBLE_EQ(c.material.hypoplastic().phi_c_deg, 32.25);
-  EXPECT_DOUBLE_EQ(c.material.hypoplastic().alpha, 0.1375);
-  ASSERT_TRUE(c.igs);
-  EXPECT_DOUBLE_EQ(c.igs->parameters.R, 1e-4);
-  const ElementResult from_file = run_element_test(*c.model, c.test, c.initial);
-  const ElementResult direct =
-      run_lab_test(p.tests[3], make_hypoplastic(s, c.integrator));  // tx-dense-100
-  ASSERT_EQ(from_file.curve.size(), direct.curve.size());
-  EXPECT_NEAR(from_file.curve.back().q, direct.curve.back().q, 1e-6 * direct.curve.back().q);
 }
 
 TEST(CalibrationParameters, NormalisedCoordinatesRoundTripOnLinearAndLogScales) {

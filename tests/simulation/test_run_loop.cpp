@@ -9,8 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "../support/case_builders.hpp"
+#include "../support/material_builders.hpp"
 #include "pilempm/core/error.hpp"
-#include "pilempm/io/mpm_case.hpp"
 #include "pilempm/simulation/explicit_scheme.hpp"
 #include "pilempm/simulation/run_loop.hpp"
 
@@ -20,46 +21,24 @@ namespace {
 using namespace simulation;
 
 // An elastic column, stress free, settling under gravity: 0.02 s, records every 0.005 s,
-// snapshots every 0.01 s.
-const char* const kColumn = R"(title = "column"
-[geometry]
-kind = "plane-strain"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.4
-cells = 2
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 1.2
-cells = 6
-[boundaries]
-left = "roller"
-right = "roller"
-bottom = "fixed"
-[solver]
-threads = 1
-[[material]]
-name = "soil"
-model = "linear-elastic"
-young_modulus_MPa = 10.0
-poisson_ratio = 0.3
-[[region]]
-x_min_m = 0.0
-x_max_m = 0.4
-y_min_m = 0.0
-y_max_m = 1.0
-particles_per_cell = 2
-density_kg_per_m3 = 2000.0
-material = "soil"
-initial_stress = "zero"
-[[phase]]
-name = "settle"
-duration_s = 0.02
-output_interval_s = 0.01
-energy_interval_s = 0.005
-)";
+// snapshots every 0.01 s (0.4 m wide, 1 m high, on a grid of 0.2 m cells, rollers on the sides,
+// a fixed base, one thread).
+MpmCase column_case() {
+  MpmCase c = test_support::grid_case("column", mpm::Geometry::plane_strain,
+                                      test_support::uniform_axis(0.0, 0.4, 2),
+                                      test_support::uniform_axis(0.0, 1.2, 6));
+  c.boundaries[static_cast<std::size_t>(mpm::Side::left)] = mpm::BoundaryCondition::roller;
+  c.boundaries[static_cast<std::size_t>(mpm::Side::right)] = mpm::BoundaryCondition::roller;
+  c.boundaries[static_cast<std::size_t>(mpm::Side::bottom)] = mpm::BoundaryCondition::fixed;
+  c.solver.threads = 1;
+  mpm::RectangleFill fill;
+  fill.x_max = 0.4;
+  fill.y_max = 1.0;
+  fill.density = 2000.0;
+  test_support::add_region(c, test_support::linear_elastic_material("soil", 10.0e6, 0.3), fill);
+  test_support::add_phase(c, "settle", 0.02, 0.01, 0.005);
+  return c;
+}
 
 // Counts what the loop tells and checks that time never goes back.
 struct CountingObserver final : RunObserver {
@@ -81,7 +60,7 @@ struct CountingObserver final : RunObserver {
 };
 
 TEST(RunLoop, RecordsAndSnapshotsLandExactlyOnTheirTimes) {
-  const MpmCase c = read_mpm_case_text(kColumn, "column.toml");
+  const MpmCase c = column_case();
   ExplicitScheme scheme(c);
   CountingObserver counter;
   const std::vector<MpmPhaseEnd> ends = run_phases(c, scheme, 0, {&counter});
@@ -118,13 +97,13 @@ void expect_error_within_a_minute(const MpmCase& c, const std::string& key) {
 }
 
 TEST(RunLoop, AnEnergyIntervalFarBelowTheTimeStepIsAnErrorNotAHang) {
-  MpmCase c = read_mpm_case_text(kColumn, "column.toml");
+  MpmCase c = column_case();
   c.phases[0].energy_interval = 1e-300;
   expect_error_within_a_minute(c, "energy_interval_s");
 }
 
 TEST(RunLoop, AnOutputIntervalFarBelowTheTimeStepIsAnErrorNotAHang) {
-  MpmCase c = read_mpm_case_text(kColumn, "column.toml");
+  MpmCase c = column_case();
   c.phases[0].output_interval = 1e-300;
   expect_error_within_a_minute(c, "output_interval_s");
 }
