@@ -131,12 +131,14 @@ HypoplasticMaterial read_hypoplastic_material(ParameterSource& t) {
 
 namespace {
 
-void describe(const HypoplasticMaterial& m, const IntegratorSettings& integrator,
-              ParameterSink& out) {
+// The keys of the parameters as read_hypoplastic_material reads them, every parameter written (a
+// base set's too, so that a table says what the model uses): for the description (a
+// ParameterSink's scaled_number gives the number in the key's unit) and for case files.
+void write_parameters(const HypoplasticMaterial& m, ParameterSink& out) {
   if (!m.base.empty()) out.text("base", m.base);
   const HypoplasticParameters& p = m.parameters;
   out.number("phi_c_deg", p.phi_c_deg);
-  out.number("h_s_MPa", p.h_s / kMPa);
+  out.scaled_number("h_s_MPa", p.h_s, kMPa);
   out.number("n", p.n);
   out.number("e_d0", p.e_d0);
   out.number("e_c0", p.e_c0);
@@ -149,11 +151,16 @@ void describe(const HypoplasticMaterial& m, const IntegratorSettings& integrator
     out.boolean("alpha", d.alpha_varies);
     out.number("alpha_low", d.alpha_low);
     out.number("alpha_high", d.alpha_high);
-    out.number("p_low_kPa", d.p_low / kKPa);
-    out.number("p_high_kPa", d.p_high / kKPa);
+    out.scaled_number("p_low_kPa", d.p_low, kKPa);
+    out.scaled_number("p_high_kPa", d.p_high, kKPa);
     out.boolean("rohe_void_ratios", d.rohe_void_ratios);
     out.end_group();
   }
+}
+
+void describe(const HypoplasticMaterial& m, const IntegratorSettings& integrator,
+              ParameterSink& out) {
+  write_parameters(m, out);
   out.begin_group("igs");
   out.text("name", m.igs ? m.igs->name : "none");
   if (m.igs && m.igs->parameters.enabled()) {
@@ -173,31 +180,10 @@ void describe(const HypoplasticMaterial& m, const IntegratorSettings& integrator
   out.end_group();
 }
 
-// The keys read_hypoplastic_material reads: every parameter is written (a base set's too, so
-// that the table says what the model uses).
+// A [[material]] table's keys: the parameters and the intergranular strain.
 void write(const HypoplasticMaterial& m, ParameterSink& out) {
-  if (!m.base.empty()) out.text("base", m.base);
-  const HypoplasticParameters& p = m.parameters;
-  out.number("phi_c_deg", p.phi_c_deg);
-  out.scaled_number("h_s_MPa", p.h_s, kMPa);
-  out.number("n", p.n);
-  out.number("e_d0", p.e_d0);
-  out.number("e_c0", p.e_c0);
-  out.number("e_i0", p.e_i0);
-  out.number("alpha", p.alpha);
-  out.number("beta", p.beta);
+  write_parameters(m, out);
   if (m.igs) write_igs(*m.igs, "igs", out);
-  if (p.stress_dependence.enabled()) {
-    const StressDependence& d = p.stress_dependence;
-    out.begin_group("stress_dependence");
-    out.boolean("alpha", d.alpha_varies);
-    out.number("alpha_low", d.alpha_low);
-    out.number("alpha_high", d.alpha_high);
-    out.scaled_number("p_low_kPa", d.p_low, kKPa);
-    out.scaled_number("p_high_kPa", d.p_high, kKPa);
-    out.boolean("rohe_void_ratios", d.rohe_void_ratios);
-    out.end_group();
-  }
 }
 
 }  // namespace
