@@ -23,7 +23,8 @@
 // integers, read back without conversion, so a round trip is bitwise.
 //   /                  attributes: format, format_version, geometry ("plane-strain" or
 //                      "axisymmetric"), grid_nx, grid_ny, particle_count, materials_count,
-//                      body_count, threads (of the solver that wrote it, for information)
+//                      body_count, threads (of the solver that wrote it, for information),
+//                      analysis ("explicit" or "quasi-static": a restart continues the same)
 //   /grid              x_nodes, y_nodes (for information; a restart checks the node counts)
 //   /particles         one dataset per field, first dimension the particle: position (n, 2),
 //                      velocity, mass (n), initial_volume, volume, initial_half_size,
@@ -39,7 +40,10 @@
 //                      contact_force (2), contact_force_parts (parts, 2)
 //   /run_state         attributes time, steps, max_wave_speed, wave_speed_step,
 //                      max_particle_speed; /run_state/energies attributes kinetic, internal,
-//                      external_work, damping, contact_work, absorbed
+//                      external_work, damping, contact_work, absorbed; /run_state/scheme
+//                      (the analysis's own arrays, mpm::SolverRunState::scheme_arrays, e.g. the
+//                      quasi-static contact points) attribute count, datasets 0, 1, ... of
+//                      doubles with attribute name
 //   /run               attributes case_source, next_phase, phase_start; dataset initial_position
 //                      (0 or n, 2); /run/records attribute count, datasets 0, 1, ...: one
 //                      fixed-length string each with attributes name and length (bytes)
@@ -54,7 +58,6 @@ namespace fs = std::filesystem;
 using mpm::Mat2;
 using mpm::Particles;
 using mpm::RigidBody;
-using mpm::Solver;
 using mpm::Vec2;
 
 namespace {
@@ -82,6 +85,7 @@ struct StoredRunState {
   long wave_speed_step;
   double max_particle_speed;
   std::vector<mpm::RigidBodyForce> rigid_body_forces;
+  std::vector<std::pair<std::string, std::vector<double>>> scheme_arrays;
 };
 static_assert(sizeof(mpm::SolverRunState) == sizeof(StoredRunState),
               "a member was added to mpm::SolverRunState: store it in the checkpoint");
@@ -467,7 +471,7 @@ void write_particles(const Writer& w, hid_t root, const Particles& particles,
   }
 }
 
-void write_bodies(const Writer& w, hid_t root, const Solver& solver,
+void write_bodies(const Writer& w, hid_t root, const mpm::MpmState& solver,
                   const mpm::SolverRunState& state) {
   const Handle group = w.group(root, "bodies");
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
@@ -501,6 +505,18 @@ void write_run_state(const Writer& w, hid_t root, const mpm::SolverRunState& sta
   w.attribute(e.get(), "damping", energies.damping);
   w.attribute(e.get(), "contact_work", energies.contact_work);
   w.attribute(e.get(), "absorbed", energies.absorbed);
+  if (state.scheme_arrays.empty()) return;
+  // The analysis's own arrays, by index, each with its name.
+  const Handle arrays = w.group(g.get(), "scheme");
+  w.attribute(arrays.get(), "count", static_cast<std::int64_t>(state.scheme_arrays.size()));
+  std::int64_t index = 0;
+  for (const auto& [name, values] : state.scheme_arrays) {
+    const std::string key = std::to_string(index++);
+    w.doubles(arrays.get(), key.c_str(), {values.size()}, values);
+    const Handle set(H5Dopen2(arrays.get(), key.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) w.fail_hdf5(fmt::format("dataset run_state/scheme/{}", key));
+    w.attribute(set.get(), "name", name);
+  }
 }
 
 void write_run_info(const Writer& w, hid_t root, const MpmCheckpointInfo& info) {
@@ -521,7 +537,8 @@ void write_run_info(const Writer& w, hid_t root, const MpmCheckpointInfo& info) 
   }
 }
 
-void write_checkpoint_file(const Writer& w, const Solver& solver, const MpmCheckpointInfo& info) {
+void write_checkpoint_file(const Writer& w, const mpm::MpmState& solver,
+                           const MpmCheckpointInfo& info) {
   const std::size_t n = solver.particles().size();
   if (!info.initial_position.empty() && info.initial_position.size() != n)
     w.fail(fmt::format("initial_position has {} entries: must be 0 or the particle count {}",
@@ -534,7 +551,8 @@ void write_checkpoint_file(const Writer& w, const Solver& solver, const MpmCheck
     const hid_t r = root.get();
     w.attribute(r, "format", std::string(kFormat));
     w.attribute(r, "format_version", std::int64_t{kMpmCheckpointFormatVersion});
-    w.attribute(r, "geometry", std::string(geometry_name(solver.settings().geometry)));
+    w.attribute(r, "geometry", std::string(geometry_name(solver.geometry())));
+    w.attribute(r, "analysis", std::string(solver.analysis()));
     w.attribute(r, "grid_nx", std::int64_t{solver.grid().nx()});
     w.attribute(r, "grid_ny", std::int64_t{solver.grid().ny()});
     w.attribute(r, "particle_count", static_cast<std::int64_t>(n));
@@ -746,7 +764,7 @@ class Reader {
 };
 
 // The header's counts against the solver's: the checkpoint must come from the same case.
-void check_header(const Reader& r, hid_t root, const Solver& solver) {
+void check_header(const Reader& r, hid_t root, const mpm::MpmState& solver) {
   const std::string format = r.string(root, "", "format");
   if (format != kFormat)
     r.fail("format", format, fmt::format("must be \"{}\" (not a pilempm checkpoint)", kFormat));
@@ -755,11 +773,17 @@ void check_header(const Reader& r, hid_t root, const Solver& solver) {
     r.fail("format_version", std::to_string(version),
            fmt::format("this pilempm reads version {}", kMpmCheckpointFormatVersion));
   const std::string geometry = r.string(root, "", "geometry");
-  const char* expected_geometry = geometry_name(solver.settings().geometry);
+  const char* expected_geometry = geometry_name(solver.geometry());
   if (geometry != expected_geometry)
     r.fail("geometry", geometry,
            fmt::format("the case is {} (a checkpoint continues the case it came from)",
                        expected_geometry));
+  const std::string analysis = r.string(root, "", "analysis");
+  if (analysis != solver.analysis())
+    r.fail("analysis", analysis,
+           fmt::format("the case runs the {} analysis (a checkpoint continues the analysis it "
+                       "came from)",
+                       solver.analysis()));
   const auto check_count = [&](const char* name, std::int64_t expected, const char* what) {
     const std::int64_t value = r.integer(root, "", name);
     if (value != expected)
@@ -775,7 +799,7 @@ void check_header(const Reader& r, hid_t root, const Solver& solver) {
 }
 
 // The particles of the file, checked against the solver's grid and materials.
-Particles read_particles(const Reader& r, hid_t root, const Solver& solver) {
+Particles read_particles(const Reader& r, hid_t root, const mpm::MpmState& solver) {
   const Handle group = r.group(root, "particles");
   const hid_t g = group.get();
   const std::string where = "/particles";
@@ -792,7 +816,7 @@ Particles read_particles(const Reader& r, hid_t root, const Solver& solver) {
 
   const int materials = static_cast<int>(solver.materials().size());
   const mpm::Grid& grid = solver.grid();
-  const bool axisymmetric = solver.settings().geometry == mpm::Geometry::axisymmetric;
+  const bool axisymmetric = solver.geometry() == mpm::Geometry::axisymmetric;
   for (std::size_t p = 0; p < n; ++p) {
     const auto key = [&](const char* field) { return fmt::format("{}/{}[{}]", where, field, p); };
     if (particles.material[p] < 0 || particles.material[p] >= materials)
@@ -831,8 +855,8 @@ Particles read_particles(const Reader& r, hid_t root, const Solver& solver) {
 
 // The rigid bodies of the file (copies of the solver's, moved to where the file has them) and
 // their contact forces.
-void read_bodies(const Reader& r, hid_t root, const Solver& solver, std::vector<RigidBody>& bodies,
-                 std::vector<mpm::RigidBodyForce>& forces) {
+void read_bodies(const Reader& r, hid_t root, const mpm::MpmState& solver,
+                 std::vector<RigidBody>& bodies, std::vector<mpm::RigidBodyForce>& forces) {
   const Handle group = r.group(root, "bodies");
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
     const std::string name = std::to_string(b);
@@ -894,6 +918,21 @@ mpm::SolverRunState read_run_state(const Reader& r, hid_t root) {
   state.energies.damping = r.real(e, at, "damping");
   state.energies.contact_work = r.real(e, at, "contact_work");
   state.energies.absorbed = r.real(e, at, "absorbed");
+  if (H5Lexists(g, "scheme", H5P_DEFAULT) <= 0) return state;
+  const Handle arrays = r.group(g, "scheme");
+  const std::string in = where + "/scheme";
+  const std::int64_t count = r.integer(arrays.get(), in, "count");
+  if (count < 0 || count > 1000)
+    r.fail(in + "@count", std::to_string(count), "must be in [0, 1000]");
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::string key = std::to_string(k);
+    std::vector<double> values =
+        r.doubles(arrays.get(), in, key, {r.length(arrays.get(), in, key)});
+    const Handle set(H5Dopen2(arrays.get(), key.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) r.fail_hdf5(in + "/" + key, "cannot open the dataset");
+    state.scheme_arrays.emplace_back(r.string(set.get(), in + "/" + key, "name"),
+                                     std::move(values));
+  }
   return state;
 }
 
@@ -931,7 +970,7 @@ MpmCheckpointInfo read_run_info(const Reader& r, hid_t root, std::size_t particl
 
 }  // namespace
 
-void write_mpm_checkpoint(const fs::path& file, const Solver& solver,
+void write_mpm_checkpoint(const fs::path& file, const mpm::MpmState& solver,
                           const MpmCheckpointInfo& info) {
   const fs::path tmp = temporary_path_for(file);
   const QuietHdf5Errors quiet;
@@ -954,7 +993,7 @@ void write_mpm_checkpoint(const fs::path& file, const Solver& solver,
   }
 }
 
-MpmCheckpointInfo read_mpm_checkpoint(const fs::path& file, Solver& solver) {
+MpmCheckpointInfo read_mpm_checkpoint(const fs::path& file, mpm::MpmState& solver) {
   const QuietHdf5Errors quiet;
   const Reader reader(file.string());
   MpmCheckpointInfo info;
