@@ -8,7 +8,8 @@
 // continued with a different parameter set while every particle keeps its stress, void ratio and
 // the history variables its model declares (e.g. the intergranular strain). Files are written
 // atomically (FILE.<unique>.tmp, then renamed). Every dataset carries a checksum, and HDF5's
-// metadata its own: a damaged file is refused naming the dataset.
+// metadata its own: a damaged file is refused naming the dataset. The file layout, the writer and
+// the reader are in io/checkpoint/.
 #include <filesystem>
 #include <map>
 #include <string>
