@@ -298,8 +298,8 @@ Particles read_particles(const Reader& r, hid_t root, const mpm::MpmState& solve
 
 // The rigid bodies of the file (copies of the solver's, moved to where the file has them) and
 // their contact forces.
-void read_bodies(const Reader& r, hid_t root, const mpm::MpmState& solver, std::vector<RigidBody>& bodies,
-                 std::vector<mpm::RigidBodyForce>& forces) {
+void read_bodies(const Reader& r, hid_t root, const mpm::MpmState& solver,
+                 std::vector<RigidBody>& bodies, std::vector<mpm::RigidBodyForce>& forces) {
   const Handle group = r.group(root, "bodies");
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
     const std::string name = std::to_string(b);

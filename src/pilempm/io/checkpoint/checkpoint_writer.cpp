@@ -229,7 +229,8 @@ void write_run_info(const Writer& w, hid_t root, const MpmCheckpointInfo& info) 
   }
 }
 
-void write_checkpoint_file(const Writer& w, const mpm::MpmState& solver, const MpmCheckpointInfo& info) {
+void write_checkpoint_file(const Writer& w, const mpm::MpmState& solver,
+                           const MpmCheckpointInfo& info) {
   const std::size_t n = solver.particles().size();
   if (!info.initial_position.empty() && info.initial_position.size() != n)
     w.fail(fmt::format("initial_position has {} entries: must be 0 or the particle count {}",
