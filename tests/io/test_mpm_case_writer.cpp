@@ -115,6 +115,14 @@ void expect_same_case(const MpmCase& typed, const MpmCase& read) {
   EXPECT_EQ(typed.x_nodes, read.x_nodes);
   EXPECT_EQ(typed.y_nodes, read.y_nodes);
   EXPECT_EQ(typed.boundaries, read.boundaries);
+  EXPECT_EQ(typed.analysis, read.analysis);
+  EXPECT_EQ(typed.displacement_step, read.displacement_step);
+  const mpm::quasi_static::Settings &q = typed.quasi_static, &r = read.quasi_static;
+  EXPECT_EQ(q.force_tolerance, r.force_tolerance);
+  EXPECT_EQ(q.max_iterations, r.max_iterations);
+  EXPECT_EQ(q.max_cuts, r.max_cuts);
+  EXPECT_EQ(q.linear_solver, r.linear_solver);
+  EXPECT_EQ(q.contact.penalty_factor, r.contact.penalty_factor);
   const mpm::SolverSettings &s = typed.solver, &t = read.solver;
   EXPECT_EQ(s.geometry, t.geometry);
   EXPECT_EQ(s.scheme, t.scheme);
@@ -217,6 +225,7 @@ void expect_same_case(const MpmCase& typed, const MpmCase& read) {
     EXPECT_EQ(a.output_interval, b.output_interval);
     EXPECT_EQ(a.energy_interval, b.energy_interval);
     EXPECT_EQ(a.traction_multiplier, b.traction_multiplier);
+    EXPECT_EQ(a.displacement_step, b.displacement_step);
     EXPECT_EQ(a.checkpoint, b.checkpoint);
     ASSERT_EQ(a.body_motion.size(), b.body_motion.size());
     for (std::size_t m = 0; m < a.body_motion.size(); ++m) {

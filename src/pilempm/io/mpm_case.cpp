@@ -77,9 +77,28 @@ MpmGridAxis read_axis(TableReader& grid, std::string_view key, std::vector<doubl
   }
 }
 
-mpm::SolverSettings read_solver(std::optional<TableReader> solver) {
-  mpm::SolverSettings s;
-  if (!solver) return s;
+// The keys of [solver] that only one analysis reads.
+const std::vector<std::string> kExplicitOnlyKeys = {
+    "scheme",       "flip_fraction",  "xpic_order",        "local_damping",
+    "mass_scaling", "courant_number", "fixed_time_step_s", "volumetric_smoothing"};
+const std::vector<std::string> kQuasiStaticOnlyKeys = {
+    "displacement_step_m", "force_tolerance",       "max_iterations", "max_cuts",
+    "linear_solver",       "contact_penalty_factor"};
+
+// [solver]: the analysis and its settings; a key of the other analysis is an error.
+void read_solver(std::optional<TableReader> solver, MpmCase& c) {
+  mpm::SolverSettings& s = c.solver;
+  if (!solver) return;
+  if (solver->optional_choice("analysis", {"explicit", "quasi-static"}).value_or("explicit") ==
+      "quasi-static")
+    c.analysis = MpmAnalysis::quasi_static;
+  const bool quasi_static = c.analysis == MpmAnalysis::quasi_static;
+  for (const std::string& key : quasi_static ? kExplicitOnlyKeys : kQuasiStaticOnlyKeys)
+    if (solver->contains(key))
+      throw solver->error(
+          key, fmt::format("applies to analysis = \"{}\" only (this case runs "
+                           "analysis = \"{}\")",
+                           quasi_static ? "explicit" : "quasi-static", to_string(c.analysis)));
   if (auto scheme = solver->optional_choice("scheme", {"musl", "usl"}))
     s.scheme = *scheme == "usl" ? mpm::UpdateScheme::usl : mpm::UpdateScheme::musl;
   if (auto shape = solver->optional_choice("shape_function", {"linear", "ugimp", "cpgimp"}))
@@ -99,8 +118,22 @@ mpm::SolverSettings read_solver(std::optional<TableReader> solver) {
       solver->number_or("fixed_time_step_s", s.fixed_time_step, NumberRange::non_negative());
   s.threads = solver->integer_or("threads", s.threads, 0, kMaxThreads);
   s.volumetric_smoothing = solver->boolean_or("volumetric_smoothing", s.volumetric_smoothing);
+  mpm::quasi_static::Settings& q = c.quasi_static;
+  c.displacement_step = solver->number_or("displacement_step_m", 0.0, NumberRange::positive());
+  q.force_tolerance =
+      solver->number_or("force_tolerance", q.force_tolerance, NumberRange::closed(1e-12, 1e-1));
+  q.max_iterations = solver->integer_or("max_iterations", q.max_iterations, 1, 1000);
+  q.max_cuts = solver->integer_or("max_cuts", q.max_cuts, 0, 30);
+  if (auto linear = solver->optional_choice("linear_solver", {"umfpack", "sparse-lu"})) {
+    q.linear_solver = *linear == "umfpack" ? mpm::quasi_static::LinearSolverKind::umfpack
+                                           : mpm::quasi_static::LinearSolverKind::sparse_lu;
+    if (q.linear_solver == mpm::quasi_static::LinearSolverKind::umfpack &&
+        !mpm::quasi_static::umfpack_available())
+      throw solver->error("linear_solver", "umfpack: this build has no UMFPACK (use sparse-lu)");
+  }
+  q.contact.penalty_factor = solver->number_or("contact_penalty_factor", q.contact.penalty_factor,
+                                               NumberRange::closed(1e-3, 1e3));
   solver->check_no_unknown_keys();
-  return s;
 }
 
 double default_K0(const MaterialSpec& material) {
@@ -364,7 +397,7 @@ MpmCase read_mpm_case_text(std::string_view text, const std::string& source_name
                      "must be 0 in axisymmetry: the left side of the grid is the axis r = 0");
 
   c.boundaries.fill(mpm::BoundaryCondition::free);
-  c.solver = read_solver(root.table("solver"));
+  read_solver(root.table("solver"), c);
   c.solver.geometry = c.geometry;
   if (std::optional<TableReader> sides = root.table("boundaries")) {
     const char* names[4] = {"left", "right", "bottom", "top"};  // the order of mpm::Side

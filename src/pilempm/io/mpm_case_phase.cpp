@@ -195,6 +195,16 @@ MpmPhase read_phase(TableReader& t, const MpmCase& c, const MaterialCatalog& cat
   p.duration = t.number("duration_s", NumberRange::positive());
   p.gravity_multiplier =
       t.number_or("gravity_multiplier", solver.gravity_multiplier, NumberRange::non_negative());
+  if (c.analysis == MpmAnalysis::quasi_static) {
+    if (t.contains("local_damping"))
+      throw t.error("local_damping",
+                    "applies to analysis = \"explicit\" only (the quasi-static analysis has no "
+                    "inertia to damp)");
+    p.displacement_step = t.number_or("displacement_step_m", 0.0, NumberRange::positive());
+  } else if (t.contains("displacement_step_m")) {
+    throw t.error("displacement_step_m",
+                  "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
+  }
   p.local_damping = t.number_or("local_damping", solver.local_damping, {0.0, 1.0, false, true});
   // At most kMaxSeriesTimes output or record times in a phase: the run loop steps to each.
   const NumberRange interval = NumberRange::closed(p.duration / kMaxSeriesTimes, p.duration);

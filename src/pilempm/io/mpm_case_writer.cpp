@@ -1,7 +1,7 @@
 // Writing MPM case files: see mpm_case_writer.hpp. The keys and their order follow the reader
 // (io/mpm_case.cpp, io/mpm_case_phase.cpp) and docs/mpm-case-files.md; a key the reader gives a
 // default is left out where the case has that default, except in [solver], which is written
-// whole as the record of the settings used.
+// whole (for its analysis) as the record of the settings used. One more key is one more line.
 #include "pilempm/io/mpm_case_writer.hpp"
 
 #include <fmt/format.h>
@@ -204,22 +204,40 @@ void write_boundaries(TomlText& t, const MpmCase& c) {
   }
 }
 
-void write_solver(TomlText& t, const mpm::SolverSettings& s) {
+// [solver]: the analysis, the keys both analyses read, then the analysis's own keys (the reader
+// refuses the other analysis's).
+void write_solver(TomlText& t, const MpmCase& c) {
+  const mpm::SolverSettings& s = c.solver;
   t.table("solver");
-  t.text("scheme", s.scheme == mpm::UpdateScheme::usl ? "usl" : "musl");
+  t.text("analysis", to_string(c.analysis));
   t.text("shape_function", s.shape_function == mpm::ShapeFunction::linear  ? "linear"
                            : s.shape_function == mpm::ShapeFunction::ugimp ? "ugimp"
                                                                            : "cpgimp");
-  t.number("flip_fraction", s.flip_fraction);
-  t.integer("xpic_order", s.xpic_order);
   t.number("gravity_m_per_s2", s.gravity);
   t.number("gravity_multiplier", s.gravity_multiplier);
-  t.number("local_damping", s.local_damping);
-  t.number("mass_scaling", s.mass_scaling);
-  t.number("courant_number", s.courant_number);
-  t.number("fixed_time_step_s", s.fixed_time_step);
   t.integer("threads", s.threads);
-  t.boolean("volumetric_smoothing", s.volumetric_smoothing);
+  if (c.analysis == MpmAnalysis::explicit_dynamic) {
+    t.text("scheme", s.scheme == mpm::UpdateScheme::usl ? "usl" : "musl");
+    t.number("flip_fraction", s.flip_fraction);
+    t.integer("xpic_order", s.xpic_order);
+    t.number("local_damping", s.local_damping);
+    t.number("mass_scaling", s.mass_scaling);
+    t.number("courant_number", s.courant_number);
+    t.number("fixed_time_step_s", s.fixed_time_step);
+    t.boolean("volumetric_smoothing", s.volumetric_smoothing);
+    return;
+  }
+  const mpm::quasi_static::Settings& q = c.quasi_static;
+  if (c.displacement_step > 0.0) t.number("displacement_step_m", c.displacement_step);
+  t.number("force_tolerance", q.force_tolerance);
+  t.integer("max_iterations", q.max_iterations);
+  t.integer("max_cuts", q.max_cuts);
+  // This build's default when it is the default (a file that names UMFPACK needs a build with it).
+  if (q.linear_solver != mpm::quasi_static::Settings{}.linear_solver)
+    t.text("linear_solver", q.linear_solver == mpm::quasi_static::LinearSolverKind::umfpack
+                                ? "umfpack"
+                                : "sparse-lu");
+  t.number("contact_penalty_factor", q.contact.penalty_factor);
 }
 
 void write_integrator(TomlText& t, const IntegratorSettings& s) {
@@ -356,7 +374,11 @@ void write_phase(TomlText& t, const MpmCase& c, const MpmPhase& p) {
   t.number("duration_s", p.duration);
   if (p.gravity_multiplier != c.solver.gravity_multiplier)
     t.number("gravity_multiplier", p.gravity_multiplier);
-  if (p.local_damping != c.solver.local_damping) t.number("local_damping", p.local_damping);
+  if (c.analysis == MpmAnalysis::quasi_static) {
+    if (p.displacement_step > 0.0) t.number("displacement_step_m", p.displacement_step);
+  } else if (p.local_damping != c.solver.local_damping) {
+    t.number("local_damping", p.local_damping);
+  }
   if (p.output_interval != p.duration) t.number("output_interval_s", p.output_interval);
   if (p.energy_interval != p.output_interval / 10.0)
     t.number("energy_interval_s", p.energy_interval);
@@ -417,7 +439,7 @@ std::string mpm_case_text(const MpmCase& c, const std::vector<std::string>& comm
   write_axis(t, c, "x", c.x_axis, c.x_nodes);
   write_axis(t, c, "y", c.y_axis, c.y_nodes);
   write_boundaries(t, c);
-  write_solver(t, c.solver);
+  write_solver(t, c);
   write_integrator(t, c.integrator);
   write_materials(t, c);
   for (const MpmRegion& r : c.regions) write_region(t, r);

@@ -36,6 +36,7 @@ struct StoredRunState {
   long wave_speed_step;
   double max_particle_speed;
   std::vector<mpm::RigidBodyForce> rigid_body_forces;
+  std::vector<std::pair<std::string, std::vector<double>>> scheme_arrays;
 };
 static_assert(sizeof(mpm::SolverRunState) == sizeof(StoredRunState),
               "a member was added to mpm::SolverRunState: store it in the checkpoint");

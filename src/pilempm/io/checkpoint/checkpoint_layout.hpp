@@ -6,7 +6,8 @@
 // integers, read back without conversion, so a round trip is bitwise.
 //   /                  attributes: format, format_version, geometry ("plane-strain" or
 //                      "axisymmetric"), grid_nx, grid_ny, particle_count, materials_count,
-//                      body_count, threads (of the solver that wrote it, for information)
+//                      body_count, threads (of the solver that wrote it, for information),
+//                      analysis ("explicit" or "quasi-static": a restart continues the same)
 //   /grid              x_nodes, y_nodes (for information; a restart checks the node counts)
 //   /particles         one dataset per field, first dimension the particle: position (n, 2),
 //                      velocity, mass (n), initial_volume, volume, initial_half_size,
@@ -22,7 +23,10 @@
 //                      contact_force (2), contact_force_parts (parts, 2)
 //   /run_state         attributes time, steps, max_wave_speed, wave_speed_step,
 //                      max_particle_speed; /run_state/energies attributes kinetic, internal,
-//                      external_work, damping, contact_work, absorbed
+//                      external_work, damping, contact_work, absorbed; /run_state/scheme
+//                      (the analysis's own arrays, mpm::SolverRunState::scheme_arrays, e.g. the
+//                      quasi-static contact points) attribute count, datasets 0, 1, ... of
+//                      doubles with attribute name
 //   /run               attributes case_source, next_phase, phase_start; dataset initial_position
 //                      (0 or n, 2); /run/records attribute count, datasets 0, 1, ...: one
 //                      fixed-length string each with attributes name and length (bytes)
@@ -37,7 +41,7 @@
 #include <string>
 #include <vector>
 
-#include "pilempm/mpm/solver.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 
 namespace pilempm::checkpoint {
 

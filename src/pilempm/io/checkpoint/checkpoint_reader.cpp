@@ -22,7 +22,6 @@ namespace pilempm {
 namespace fs = std::filesystem;
 using mpm::Particles;
 using mpm::RigidBody;
-using mpm::Solver;
 using mpm::Vec2;
 using namespace checkpoint;
 
@@ -208,7 +207,7 @@ class Reader {
 };
 
 // The header's counts against the solver's: the checkpoint must come from the same case.
-void check_header(const Reader& r, hid_t root, const Solver& solver) {
+void check_header(const Reader& r, hid_t root, const mpm::MpmState& solver) {
   const std::string format = r.string(root, "", "format");
   if (format != kFormat)
     r.fail("format", format, fmt::format("must be \"{}\" (not a pilempm checkpoint)", kFormat));
@@ -217,11 +216,17 @@ void check_header(const Reader& r, hid_t root, const Solver& solver) {
     r.fail("format_version", std::to_string(version),
            fmt::format("this pilempm reads version {}", kMpmCheckpointFormatVersion));
   const std::string geometry = r.string(root, "", "geometry");
-  const char* expected_geometry = geometry_name(solver.settings().geometry);
+  const char* expected_geometry = geometry_name(solver.geometry());
   if (geometry != expected_geometry)
     r.fail("geometry", geometry,
            fmt::format("the case is {} (a checkpoint continues the case it came from)",
                        expected_geometry));
+  const std::string analysis = r.string(root, "", "analysis");
+  if (analysis != solver.analysis())
+    r.fail("analysis", analysis,
+           fmt::format("the case runs the {} analysis (a checkpoint continues the analysis it "
+                       "came from)",
+                       solver.analysis()));
   const auto check_count = [&](const char* name, std::int64_t expected, const char* what) {
     const std::int64_t value = r.integer(root, "", name);
     if (value != expected)
@@ -237,7 +242,7 @@ void check_header(const Reader& r, hid_t root, const Solver& solver) {
 }
 
 // The particles of the file, checked against the solver's grid and materials.
-Particles read_particles(const Reader& r, hid_t root, const Solver& solver) {
+Particles read_particles(const Reader& r, hid_t root, const mpm::MpmState& solver) {
   const Handle group = r.group(root, "particles");
   const hid_t g = group.get();
   const std::string where = "/particles";
@@ -254,7 +259,7 @@ Particles read_particles(const Reader& r, hid_t root, const Solver& solver) {
 
   const int materials = static_cast<int>(solver.materials().size());
   const mpm::Grid& grid = solver.grid();
-  const bool axisymmetric = solver.settings().geometry == mpm::Geometry::axisymmetric;
+  const bool axisymmetric = solver.geometry() == mpm::Geometry::axisymmetric;
   for (std::size_t p = 0; p < n; ++p) {
     const auto key = [&](const char* field) { return fmt::format("{}/{}[{}]", where, field, p); };
     if (particles.material[p] < 0 || particles.material[p] >= materials)
@@ -293,8 +298,8 @@ Particles read_particles(const Reader& r, hid_t root, const Solver& solver) {
 
 // The rigid bodies of the file (copies of the solver's, moved to where the file has them) and
 // their contact forces.
-void read_bodies(const Reader& r, hid_t root, const Solver& solver, std::vector<RigidBody>& bodies,
-                 std::vector<mpm::RigidBodyForce>& forces) {
+void read_bodies(const Reader& r, hid_t root, const mpm::MpmState& solver,
+                 std::vector<RigidBody>& bodies, std::vector<mpm::RigidBodyForce>& forces) {
   const Handle group = r.group(root, "bodies");
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
     const std::string name = std::to_string(b);
@@ -356,6 +361,21 @@ mpm::SolverRunState read_run_state(const Reader& r, hid_t root) {
   state.energies.damping = r.real(e, at, "damping");
   state.energies.contact_work = r.real(e, at, "contact_work");
   state.energies.absorbed = r.real(e, at, "absorbed");
+  if (H5Lexists(g, "scheme", H5P_DEFAULT) <= 0) return state;
+  const Handle arrays = r.group(g, "scheme");
+  const std::string in = where + "/scheme";
+  const std::int64_t count = r.integer(arrays.get(), in, "count");
+  if (count < 0 || count > 1000)
+    r.fail(in + "@count", std::to_string(count), "must be in [0, 1000]");
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::string key = std::to_string(k);
+    std::vector<double> values =
+        r.doubles(arrays.get(), in, key, {r.length(arrays.get(), in, key)});
+    const Handle set(H5Dopen2(arrays.get(), key.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) r.fail_hdf5(in + "/" + key, "cannot open the dataset");
+    state.scheme_arrays.emplace_back(r.string(set.get(), in + "/" + key, "name"),
+                                     std::move(values));
+  }
   return state;
 }
 
@@ -393,7 +413,7 @@ MpmCheckpointInfo read_run_info(const Reader& r, hid_t root, std::size_t particl
 
 }  // namespace
 
-MpmCheckpointInfo read_mpm_checkpoint(const fs::path& file, Solver& solver) {
+MpmCheckpointInfo read_mpm_checkpoint(const fs::path& file, mpm::MpmState& solver) {
   const QuietHdf5Errors quiet;
   const Reader reader(file.string());
   MpmCheckpointInfo info;

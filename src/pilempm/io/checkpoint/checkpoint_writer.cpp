@@ -21,7 +21,6 @@ namespace pilempm {
 namespace fs = std::filesystem;
 using mpm::Particles;
 using mpm::RigidBody;
-using mpm::Solver;
 using mpm::Vec2;
 using namespace checkpoint;
 
@@ -164,7 +163,7 @@ void write_particles(const Writer& w, hid_t root, const Particles& particles,
   }
 }
 
-void write_bodies(const Writer& w, hid_t root, const Solver& solver,
+void write_bodies(const Writer& w, hid_t root, const mpm::MpmState& solver,
                   const mpm::SolverRunState& state) {
   const Handle group = w.group(root, "bodies");
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
@@ -198,6 +197,18 @@ void write_run_state(const Writer& w, hid_t root, const mpm::SolverRunState& sta
   w.attribute(e.get(), "damping", energies.damping);
   w.attribute(e.get(), "contact_work", energies.contact_work);
   w.attribute(e.get(), "absorbed", energies.absorbed);
+  if (state.scheme_arrays.empty()) return;
+  // The analysis's own arrays, by index, each with its name.
+  const Handle arrays = w.group(g.get(), "scheme");
+  w.attribute(arrays.get(), "count", static_cast<std::int64_t>(state.scheme_arrays.size()));
+  std::int64_t index = 0;
+  for (const auto& [name, values] : state.scheme_arrays) {
+    const std::string key = std::to_string(index++);
+    w.doubles(arrays.get(), key.c_str(), {values.size()}, values);
+    const Handle set(H5Dopen2(arrays.get(), key.c_str(), H5P_DEFAULT), H5Dclose);
+    if (!set.valid()) w.fail_hdf5(fmt::format("dataset run_state/scheme/{}", key));
+    w.attribute(set.get(), "name", name);
+  }
 }
 
 void write_run_info(const Writer& w, hid_t root, const MpmCheckpointInfo& info) {
@@ -218,7 +229,8 @@ void write_run_info(const Writer& w, hid_t root, const MpmCheckpointInfo& info) 
   }
 }
 
-void write_checkpoint_file(const Writer& w, const Solver& solver, const MpmCheckpointInfo& info) {
+void write_checkpoint_file(const Writer& w, const mpm::MpmState& solver,
+                           const MpmCheckpointInfo& info) {
   const std::size_t n = solver.particles().size();
   if (!info.initial_position.empty() && info.initial_position.size() != n)
     w.fail(fmt::format("initial_position has {} entries: must be 0 or the particle count {}",
@@ -231,7 +243,8 @@ void write_checkpoint_file(const Writer& w, const Solver& solver, const MpmCheck
     const hid_t r = root.get();
     w.attribute(r, "format", std::string(kFormat));
     w.attribute(r, "format_version", std::int64_t{kMpmCheckpointFormatVersion});
-    w.attribute(r, "geometry", std::string(geometry_name(solver.settings().geometry)));
+    w.attribute(r, "geometry", std::string(geometry_name(solver.geometry())));
+    w.attribute(r, "analysis", std::string(solver.analysis()));
     w.attribute(r, "grid_nx", std::int64_t{solver.grid().nx()});
     w.attribute(r, "grid_ny", std::int64_t{solver.grid().ny()});
     w.attribute(r, "particle_count", static_cast<std::int64_t>(n));
@@ -262,7 +275,7 @@ bool sync_file(const fs::path& path) {
 
 }  // namespace
 
-void write_mpm_checkpoint(const fs::path& file, const Solver& solver,
+void write_mpm_checkpoint(const fs::path& file, const mpm::MpmState& solver,
                           const MpmCheckpointInfo& info) {
   const fs::path tmp = temporary_path_for(file);
   const QuietHdf5Errors quiet;
