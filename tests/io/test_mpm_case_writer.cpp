@@ -117,12 +117,12 @@ void expect_same_case(const MpmCase& typed, const MpmCase& read) {
   EXPECT_EQ(typed.boundaries, read.boundaries);
   EXPECT_EQ(typed.analysis, read.analysis);
   EXPECT_EQ(typed.displacement_step, read.displacement_step);
-  const mpm::quasi_static::Settings &q = typed.quasi_static, &r = read.quasi_static;
-  EXPECT_EQ(q.force_tolerance, r.force_tolerance);
-  EXPECT_EQ(q.max_iterations, r.max_iterations);
-  EXPECT_EQ(q.max_cuts, r.max_cuts);
-  EXPECT_EQ(q.linear_solver, r.linear_solver);
-  EXPECT_EQ(q.contact.penalty_factor, r.contact.penalty_factor);
+  const mpm::quasi_static::Settings &q = typed.quasi_static, &u = read.quasi_static;
+  EXPECT_EQ(q.force_tolerance, u.force_tolerance);
+  EXPECT_EQ(q.max_iterations, u.max_iterations);
+  EXPECT_EQ(q.max_cuts, u.max_cuts);
+  EXPECT_EQ(q.linear_solver, u.linear_solver);
+  EXPECT_EQ(q.contact.penalty_factor, u.contact.penalty_factor);
   const mpm::SolverSettings &s = typed.solver, &t = read.solver;
   EXPECT_EQ(s.geometry, t.geometry);
   EXPECT_EQ(s.scheme, t.scheme);
