@@ -130,19 +130,24 @@ int footing_curve(const char* path, int cells_under_footing, double friction, in
   apply_environment(problem.settings);
   QuasiStaticSolver solver = problem.build();
   const double h = problem.cell();
-  const auto start = std::chrono::steady_clock::now();
-  const std::vector<PushPoint> points = push_body(solver, 0, Vec2(0.0, -h / steps_per_cell),
-                                                  steps_per_cell * cells, 0.0, print_iterations);
   std::FILE* csv = open_csv(path);
   if (csv == nullptr) return 1;
   std::fprintf(csv,
                "settlement_m,settlement_over_cell,pressure_over_c,iterations,cuts,"
                "penetration_over_cell\n");
-  for (const PushPoint& p : points)
-    if (p.converged)
-      std::fprintf(csv, "%.6e,%.6f,%.6f,%d,%d,%.3e\n", p.travel, p.travel / h,
-                   p.force.y() / problem.half_width / problem.cohesion, p.iterations, p.cuts,
-                   p.penetration / h);
+  // One row per converged step, written as it comes (a long run can be read while it goes on).
+  auto row = [&](const LoadStepResult& r) {
+    print_iterations(r);
+    if (!r.converged) return;
+    const double travel = -solver.rigid_body(0).displacement().y();
+    std::fprintf(csv, "%.6e,%.6f,%.6f,%d,%d,%.3e\n", travel, travel / h,
+                 solver.body_force(0).total.y() / problem.half_width / problem.cohesion,
+                 r.iterations, r.cuts, solver.max_penetration() / h);
+    std::fflush(csv);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PushPoint> points =
+      push_body(solver, 0, Vec2(0.0, -h / steps_per_cell), steps_per_cell * cells, 0.0, row);
   std::fclose(csv);
   std::printf("footing: %zu steps in %.1f s%s\n", points.size(), seconds_since(start),
               points.back().converged ? "" : (", failed: " + points.back().message).c_str());
@@ -168,18 +173,23 @@ int pile_curve(const char* path, const std::string& sand, int cells_per_d, int s
     return 1;
   }
   const double h = problem.diameter / cells_per_d;
+  std::FILE* csv = open_csv(path);
+  if (csv == nullptr) return 1;
+  std::fprintf(csv, "depth_over_d,head_force_N,iterations,cuts,penetration_over_cell\n");
+  auto row = [&](const LoadStepResult& r) {
+    print_iterations(r);
+    if (!r.converged) return;
+    std::fprintf(csv, "%.6f,%.6f,%d,%d,%.3e\n",
+                 -solver.rigid_body(0).displacement().y() / problem.diameter,
+                 2.0 * kPi * solver.body_force(0).total.y(), r.iterations, r.cuts,
+                 solver.max_penetration() / h);
+    std::fflush(csv);
+  };
   const auto start = std::chrono::steady_clock::now();
   const int steps = static_cast<int>(std::lround(depth_d * steps_per_d));
   const std::vector<PushPoint> points =
       push_body(solver, 0, Vec2(0.0, -problem.diameter / steps_per_d), steps,
-                problem.gravity_multiplier, print_iterations);
-  std::FILE* csv = open_csv(path);
-  if (csv == nullptr) return 1;
-  std::fprintf(csv, "depth_over_d,head_force_N,iterations,cuts,penetration_over_cell\n");
-  for (const PushPoint& p : points)
-    if (p.converged)
-      std::fprintf(csv, "%.6f,%.6f,%d,%d,%.3e\n", p.travel / problem.diameter,
-                   2.0 * kPi * p.force.y(), p.iterations, p.cuts, p.penetration / h);
+                problem.gravity_multiplier, row);
   std::fclose(csv);
   std::printf("pile (%s): %zu steps in %.1f s%s\n", sand.c_str(), points.size(),
               seconds_since(start),

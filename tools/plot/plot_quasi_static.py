@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Draws the figures of the quasi-static verifications 4 and 7 (docs/verification.md §9) from the
 CSV files that `bench_quasi_static footing|pile` writes (scripts/quasi-static-figures.sh runs
-them): the strip footing's pressure against its settlement, and the pile's head force against its
+the commands): the strip footing's pressure against its settlement, and the pile's head force against its
 depth with the iterations per load step.
 
     /usr/bin/python3 tools/plot/plot_quasi_static.py [--results results/quasi_static]
