@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/quasi_static/footing_problem.hpp"
 #include "pilempm/mpm/quasi_static/load_path.hpp"
 #include "pilempm/mpm/quasi_static/pile_problem.hpp"
@@ -161,6 +162,11 @@ int pile_curve(const char* path, const std::string& sand, int cells_per_d, int s
   if (sand == "hypoplastic") {
     problem.model = pile_hypoplastic_sand();
     problem.void_ratio = 0.68;
+  } else if (const char* t = std::getenv("QS_TENSION_CUTOFF")) {
+    MohrCoulombParameters mc =
+        dynamic_cast<const MohrCoulomb&>(*pile_mohr_coulomb_sand()).parameters();
+    mc.tension_cutoff = std::atof(t);
+    problem.model = std::make_shared<MohrCoulomb>(mc);
   } else {
     problem.model = pile_mohr_coulomb_sand();
   }
