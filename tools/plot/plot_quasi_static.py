@@ -36,9 +36,28 @@ def scatter_about_fit(x, y, degree):
     return math.sqrt(np.mean((y - np.polyval(c, x)) ** 2)) / abs(np.mean(y))
 
 
+def two_panels():
+    return plt.subplots(1, 2, figsize=(11, 4.2), dpi=100)
+
+
+def finish(fig, left, right, xlabel, ylabel, title, path, drawn):
+    """Labels both panels (the right one: iterations per step), saves the figure if drawn."""
+    for ax in (left, right):
+        ax.set_xlabel(xlabel)
+        ax.legend(fontsize=8)
+        ax.grid(alpha=0.3)
+    left.set_ylabel(ylabel)
+    right.set_ylabel("Newton iterations per load step")
+    fig.suptitle(title)
+    fig.tight_layout()
+    if drawn:
+        fig.savefig(path)
+    plt.close(fig)
+
+
 def footing(results, figures):
     prandtl = 2.0 + math.pi
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2), dpi=100)
+    fig, (left, right) = two_panels()
     drawn = False
     for name, label, style in [
         ("footing_smooth_8", "smooth, 8 cells under B/2", "-"),
@@ -54,23 +73,14 @@ def footing(results, figures):
         right.plot(s, d["iterations"], style, marker=".", label=label)
     left.axhline(prandtl, color="k", lw=0.8)
     left.text(0.02, prandtl * 1.01, "Prandtl (2 + π) c", fontsize=8)
-    left.set_xlabel("settlement / cell")
-    left.set_ylabel("q / c")
     left.set_ylim(0, 6.5)
-    left.legend(fontsize=8, loc="lower right")
-    left.grid(alpha=0.3)
-    right.set_xlabel("settlement / cell")
-    right.set_ylabel("Newton iterations per load step")
-    right.grid(alpha=0.3)
-    fig.suptitle("Rigid strip footing on Tresca soil, quasi-static (weightless, E/c = 1000)")
-    fig.tight_layout()
-    if drawn:
-        fig.savefig(os.path.join(figures, "qs_strip_footing.png"))
-    plt.close(fig)
+    finish(fig, left, right, "settlement / cell", "q / c",
+           "Rigid strip footing on Tresca soil, quasi-static (weightless, E/c = 1000)",
+           os.path.join(figures, "qs_strip_footing.png"), drawn)
 
 
 def pile(results, figures):
-    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.2), dpi=100)
+    fig, (left, right) = two_panels()
     drawn = False
     for name, label, style in [
         ("pile_mohr-coulomb_20", "Mohr-Coulomb, D/20 per step", "-"),
@@ -90,19 +100,9 @@ def pile(results, figures):
             extra = f" (scatter 1-2 D {100 * scatter_about_fit(z[last], f[last], 2):.1f} %)"
         left.plot(z, f, style, marker=".", ms=3, label=label + extra)
         right.plot(z, d["iterations"], style, marker=".", ms=3, label=label)
-    left.set_xlabel("pile tip depth / D")
-    left.set_ylabel("head force [N]")
-    left.legend(fontsize=8)
-    left.grid(alpha=0.3)
-    right.set_xlabel("pile tip depth / D")
-    right.set_ylabel("Newton iterations per load step")
-    right.legend(fontsize=8)
-    right.grid(alpha=0.3)
-    fig.suptitle("Rigid pile (D = 20 mm, 60° cone) pushed into sand at 50 g, quasi-static, D/4 cells")
-    fig.tight_layout()
-    if drawn:
-        fig.savefig(os.path.join(figures, "qs_pile.png"))
-    plt.close(fig)
+    finish(fig, left, right, "pile tip depth / D", "head force [N]",
+           "Rigid pile (D = 20 mm, 60° cone) pushed into sand at 50 g, quasi-static, D/4 cells",
+           os.path.join(figures, "qs_pile.png"), drawn)
 
 
 def main():

@@ -64,64 +64,44 @@ void node_share(const GridAxis& axis, int i, double& lo, double& hi) {
 // penetrated contact point passing a vertex changes its force's direction at once and the Newton
 // iterations chatter (docs/quasi-static.md).
 struct RoundedSurface {
-  std::vector<Vec2> inner;   // Q's vertices, counter-clockwise
-  std::vector<Vec2> normal;  // outward unit normal of edge k (from inner[k] to inner[k + 1])
-  std::vector<int> part;     // surface part of edge k
+  RigidBody inner;        // Q, a polygon (for a pile: its mirrored section, queried at |r|)
+  std::vector<int> part;  // the body's surface part of Q's edge k
   double radius = 0.0;
   bool axisymmetric = false;
 
-  RoundedSurface(const RigidBody& body, double rounding) : radius(rounding) {
-    axisymmetric = body.axisymmetric();
+  RoundedSurface(const RigidBody& body, double rounding)
+      : inner(RigidBody::polygon(inner_vertices(body, rounding))),
+        radius(rounding),
+        axisymmetric(body.axisymmetric()) {
     const std::vector<Vec2>& v = body.vertices();
-    const std::size_t count = v.size();
-    for (std::size_t k = 0; k < count; ++k) {
-      const Vec2 edge = v[(k + 1) % count] - v[k];
-      normal.push_back(Vec2(edge.y(), -edge.x()).normalized());
+    for (std::size_t k = 0; k < v.size(); ++k) {
       // The part of the edge, as the body reports it just outside the edge's middle.
-      const Vec2 outside = v[k] + 0.5 * edge + 1.0e-9 * edge.norm() * normal.back();
-      part.push_back(body.query(outside).part);
-    }
-    // Vertex k joins edges k − 1 and k; moved inward along the mitre it lies ρ from both lines.
-    for (std::size_t k = 0; k < count; ++k) {
-      const Vec2& a = normal[(k + count - 1) % count];
-      const Vec2& b = normal[k];
-      inner.push_back(v[k] - radius * (a + b) / (1.0 + a.dot(b)));
+      const Vec2 edge = v[(k + 1) % v.size()] - v[k];
+      const Vec2 normal = Vec2(edge.y(), -edge.x()).normalized();
+      part.push_back(body.query(v[k] + 0.5 * edge + 1.0e-9 * edge.norm() * normal).part);
     }
   }
 
-  SurfaceQuery query(const Vec2& point) const {
-    const Vec2 x = axisymmetric ? Vec2(std::abs(point.x()), point.y()) : point;
-    const std::size_t count = inner.size();
-    double largest = -std::numeric_limits<double>::infinity();
-    std::size_t largest_edge = 0;
+  // Vertex k joins edges k − 1 and k; moved inward along the mitre it lies ρ from both lines.
+  static std::vector<Vec2> inner_vertices(const RigidBody& body, double rounding) {
+    const std::vector<Vec2>& v = body.vertices();
+    const std::size_t count = v.size();
+    auto normal = [&](std::size_t k) {
+      const Vec2 edge = v[(k + 1) % count] - v[k];
+      return Vec2(Vec2(edge.y(), -edge.x()).normalized());
+    };
+    std::vector<Vec2> q;
     for (std::size_t k = 0; k < count; ++k) {
-      const double s = normal[k].dot(x - inner[k]);
-      if (s > largest) {
-        largest = s;
-        largest_edge = k;
-      }
+      const Vec2 a = normal((k + count - 1) % count), b = normal(k);
+      q.push_back(v[k] - rounding * (a + b) / (1.0 + a.dot(b)));
     }
-    SurfaceQuery result;
-    if (largest <= 0.0) {  // deeper than ρ: the nearest edge line, as the sharp polygon
-      result.distance = largest - radius;
-      result.normal = normal[largest_edge];
-      result.part = part[largest_edge];
-    } else {
-      double nearest = std::numeric_limits<double>::infinity();
-      for (std::size_t k = 0; k < count; ++k) {
-        const Vec2& a = inner[k];
-        const Vec2 edge = inner[(k + 1) % count] - a;
-        const double t = std::clamp((x - a).dot(edge) / edge.squaredNorm(), 0.0, 1.0);
-        const Vec2 offset = x - (a + t * edge);
-        const double distance = offset.norm();
-        if (distance < nearest) {
-          nearest = distance;
-          result.distance = distance - radius;
-          result.normal = distance > 0.0 ? Vec2(offset / distance) : normal[k];
-          result.part = part[k];
-        }
-      }
-    }
+    return q;
+  }
+
+  SurfaceQuery query(const Vec2& point) const {
+    SurfaceQuery result = inner.query(axisymmetric ? Vec2(std::abs(point.x()), point.y()) : point);
+    result.distance -= radius;
+    result.part = part[std::size_t(result.part)];
     if (axisymmetric && point.x() < 0.0) result.normal.x() = -result.normal.x();
     return result;
   }
