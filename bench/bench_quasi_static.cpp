@@ -4,6 +4,13 @@
 //
 //   bench_quasi_static [cells_per_d] [threads] [sparse-lu|umfpack] [steps] [steps_per_d]
 //   bench_quasi_static compare [cells_per_d] [steps] [repeats]
+//   bench_quasi_static footing <csv> [cells_under_footing] [friction] [steps_per_cell] [cells]
+//   bench_quasi_static pile <csv> [mohr-coulomb|hypoplastic] [cells_per_d] [steps_per_d] [depth_d]
+//
+// `footing` and `pile` write the curves of the quasi-static verifications 4 and 7
+// (docs/verification.md §9; tools/plot/plot_quasi_static.py draws them): the strip footing on
+// Tresca soil (footing_problem.hpp) pushed `cells` cells in `steps_per_cell` steps per cell, and
+// the pile pushed `depth_d` D in `steps_per_d` steps per D. One CSV row per load step.
 //
 // `compare` pushes the pile `steps` steps, then factorises and solves the last Newton matrix
 // with Eigen's SparseLU and with UMFPACK alternately, `repeats` times each, and prints the
@@ -21,6 +28,8 @@
 #include <vector>
 
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
+#include "pilempm/mpm/quasi_static/footing_problem.hpp"
+#include "pilempm/mpm/quasi_static/load_path.hpp"
 #include "pilempm/mpm/quasi_static/pile_problem.hpp"
 
 using namespace pilempm;
@@ -29,16 +38,6 @@ using namespace pilempm::mpm::quasi_static;
 
 namespace {
 
-MohrCoulombParameters sand() {
-  MohrCoulombParameters mc;
-  mc.young_modulus = 50.0e6;
-  mc.poisson_ratio = 0.3;
-  mc.cohesion = 1.0e3;
-  mc.friction_angle_deg = 35.0;
-  mc.dilatancy_angle_deg = 5.0;
-  return mc;
-}
-
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -46,7 +45,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 int compare_solvers(int cells_per_d, int steps, int repeats) {
   PileProblem problem;
   problem.cells_per_d = cells_per_d;
-  problem.model = std::make_shared<MohrCoulomb>(sand());
+  problem.model = pile_mohr_coulomb_sand();
   problem.settings.threads = 1;
   QuasiStaticSolver solver = problem.build();
   LoadStep load;
@@ -92,9 +91,129 @@ int compare_solvers(int cells_per_d, int steps, int repeats) {
   return 0;
 }
 
+// Diagnostic overrides of the settings (before/after comparisons in docs/quasi-static.md):
+// QS_VERTEX_RADIUS (ContactSettings::vertex_radius), QS_PENALTY (penalty_factor), QS_BBAR
+// (Settings::volumetric_averaging, 0 or 1), QS_STEP_LIMIT (Settings::step_limit).
+void apply_environment(Settings& settings) {
+  if (const char* v = std::getenv("QS_VERTEX_RADIUS"))
+    settings.contact.vertex_radius = std::atof(v);
+  if (const char* v = std::getenv("QS_PENALTY")) settings.contact.penalty_factor = std::atof(v);
+  if (const char* v = std::getenv("QS_BBAR")) settings.volumetric_averaging = std::atoi(v) != 0;
+  if (const char* v = std::getenv("QS_STEP_LIMIT")) settings.step_limit = std::atof(v);
+}
+
+// With QS_VERBOSE set: per sub-increment ||R||/F_ref, the energy norm, the line search's step
+// and the contact points (in contact, slipping, changed) of each iteration.
+void print_iterations(const LoadStepResult& r) {
+  if (std::getenv("QS_VERBOSE") == nullptr) return;
+  for (const SubIncrementRecord& sub : r.sub_increments) {
+    std::printf("  fraction %.4f R0/F %.2e:", sub.fraction,
+                sub.initial_residual / sub.reference_force);
+    for (const IterationRecord& it : sub.iterations)
+      std::printf(" %.1e/%.1e(%.2f;%d,%d,%d)", it.residual_norm / sub.reference_force,
+                  it.energy_norm, it.line_search, it.contact_points, it.slipping_points,
+                  it.contact_changes);
+    std::printf("\n");
+  }
+}
+
+std::FILE* open_csv(const char* path) {
+  std::FILE* file = std::fopen(path, "w");
+  if (file == nullptr) std::fprintf(stderr, "cannot write %s\n", path);
+  return file;
+}
+
+int footing_curve(const char* path, int cells_under_footing, double friction, int steps_per_cell,
+                  int cells) {
+  StripFootingProblem problem;
+  problem.cells_under_footing = cells_under_footing;
+  problem.friction = friction;
+  apply_environment(problem.settings);
+  QuasiStaticSolver solver = problem.build();
+  const double h = problem.cell();
+  std::FILE* csv = open_csv(path);
+  if (csv == nullptr) return 1;
+  std::fprintf(csv,
+               "settlement_m,settlement_over_cell,pressure_over_c,iterations,cuts,"
+               "penetration_over_cell\n");
+  // One row per converged step, written as it comes (a long run can be read while it goes on).
+  auto row = [&](const LoadStepResult& r) {
+    print_iterations(r);
+    if (!r.converged) return;
+    const double travel = -solver.rigid_body(0).displacement().y();
+    std::fprintf(csv, "%.6e,%.6f,%.6f,%d,%d,%.3e\n", travel, travel / h,
+                 solver.body_force(0).total.y() / problem.half_width / problem.cohesion,
+                 r.iterations, r.cuts, solver.max_penetration() / h);
+    std::fflush(csv);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PushPoint> points =
+      push_body(solver, 0, Vec2(0.0, -h / steps_per_cell), steps_per_cell * cells, 0.0, row);
+  std::fclose(csv);
+  std::printf("footing: %zu steps in %.1f s%s\n", points.size(), seconds_since(start),
+              points.back().converged ? "" : (", failed: " + points.back().message).c_str());
+  return points.back().converged ? 0 : 1;
+}
+
+int pile_curve(const char* path, const std::string& sand, int cells_per_d, int steps_per_d,
+               double depth_d) {
+  PileProblem problem;
+  problem.cells_per_d = cells_per_d;
+  if (sand == "hypoplastic") {
+    problem.model = pile_hypoplastic_sand();
+    problem.void_ratio = 0.68;
+  } else if (const char* t = std::getenv("QS_TENSION_CUTOFF")) {
+    MohrCoulombParameters mc =
+        dynamic_cast<const MohrCoulomb&>(*pile_mohr_coulomb_sand()).parameters();
+    mc.tension_cutoff = std::atof(t);
+    problem.model = std::make_shared<MohrCoulomb>(mc);
+  } else {
+    problem.model = pile_mohr_coulomb_sand();
+  }
+  apply_environment(problem.settings);
+  QuasiStaticSolver solver = problem.build();
+  LoadStep geostatic;
+  geostatic.gravity_multiplier = problem.gravity_multiplier;
+  if (!solver.solve_step(geostatic).converged) {
+    std::printf("the geostatic step failed\n");
+    return 1;
+  }
+  const double h = problem.diameter / cells_per_d;
+  std::FILE* csv = open_csv(path);
+  if (csv == nullptr) return 1;
+  std::fprintf(csv, "depth_over_d,head_force_N,iterations,cuts,penetration_over_cell\n");
+  auto row = [&](const LoadStepResult& r) {
+    print_iterations(r);
+    if (!r.converged) return;
+    std::fprintf(csv, "%.6f,%.6f,%d,%d,%.3e\n",
+                 -solver.rigid_body(0).displacement().y() / problem.diameter,
+                 2.0 * kPi * solver.body_force(0).total.y(), r.iterations, r.cuts,
+                 solver.max_penetration() / h);
+    std::fflush(csv);
+  };
+  const auto start = std::chrono::steady_clock::now();
+  const int steps = static_cast<int>(std::lround(depth_d * steps_per_d));
+  const std::vector<PushPoint> points =
+      push_body(solver, 0, Vec2(0.0, -problem.diameter / steps_per_d), steps,
+                problem.gravity_multiplier, row);
+  std::fclose(csv);
+  std::printf("pile (%s): %zu steps in %.1f s%s\n", sand.c_str(), points.size(),
+              seconds_since(start),
+              points.back().converged ? "" : (", failed: " + points.back().message).c_str());
+  return points.back().converged ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc > 2 && std::string(argv[1]) == "footing")
+    return footing_curve(argv[2], argc > 3 ? std::atoi(argv[3]) : 8,
+                         argc > 4 ? std::atof(argv[4]) : 0.0, argc > 5 ? std::atoi(argv[5]) : 8,
+                         argc > 6 ? std::atoi(argv[6]) : 3);
+  if (argc > 2 && std::string(argv[1]) == "pile")
+    return pile_curve(argv[2], argc > 3 ? argv[3] : "mohr-coulomb",
+                      argc > 4 ? std::atoi(argv[4]) : 4, argc > 5 ? std::atoi(argv[5]) : 20,
+                      argc > 6 ? std::atof(argv[6]) : 3.0);
   if (argc > 1 && std::string(argv[1]) == "compare")
     return compare_solvers(argc > 2 ? std::atoi(argv[2]) : 4, argc > 3 ? std::atoi(argv[3]) : 6,
                            argc > 4 ? std::atoi(argv[4]) : 20);
@@ -105,16 +224,17 @@ int main(int argc, char** argv) {
   const int steps_per_d = argc > 5 ? std::atoi(argv[5]) : 20;
   PileProblem problem;
   problem.cells_per_d = cells_per_d;
-  problem.model = std::make_shared<MohrCoulomb>(sand());
+  problem.model = pile_mohr_coulomb_sand();
   problem.settings.threads = threads;
   problem.settings.linear_solver =
       solver_name == "umfpack" ? LinearSolverKind::umfpack : LinearSolverKind::sparse_lu;
+  apply_environment(problem.settings);
   QuasiStaticSolver solver = problem.build();
   std::printf("particles %zu, threads %d, linear solver %s\n", solver.particles().size(), threads,
               solver_name.c_str());
   std::printf(
       "step,depth_D,head_force_N,iterations,cuts,unknowns,seconds,material_s,assembly_s,"
-      "factorisation_s\n");
+      "factorisation_s,penetration_over_cell\n");
   double total = 0.0, material = 0.0, assembly = 0.0, factorisation = 0.0;
   int iterations = 0;
   LoadStep load;
@@ -126,23 +246,16 @@ int main(int argc, char** argv) {
     const LoadStepResult r = solver.solve_step(load);
     const double seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    if (std::getenv("QS_VERBOSE"))
-      for (const SubIncrementRecord& sub : r.sub_increments) {
-        std::printf("  fraction %.4f R0/F %.2e:", sub.fraction,
-                    sub.initial_residual / sub.reference_force);
-        for (const IterationRecord& it : sub.iterations)
-          std::printf(" %.1e/%.1e(%.2f)", it.residual_norm / sub.reference_force, it.energy_norm,
-                      it.line_search);
-        std::printf("\n");
-      }
+    print_iterations(r);
     if (!r.converged) {
       std::printf("step %d failed: %s\n", step, r.message.c_str());
       return 1;
     }
     const double depth = -solver.rigid_body(0).displacement().y() / problem.diameter;
-    std::printf("%d,%.3f,%.3f,%d,%d,%d,%.4f,%.4f,%.4f,%.4f\n", step, depth,
+    std::printf("%d,%.3f,%.3f,%d,%d,%d,%.4f,%.4f,%.4f,%.4f,%.2e\n", step, depth,
                 2.0 * kPi * solver.body_force(0).total.y(), r.iterations, r.cuts, r.unknowns,
-                seconds, r.seconds_material, r.seconds_assembly, r.seconds_factorisation);
+                seconds, r.seconds_material, r.seconds_assembly, r.seconds_factorisation,
+                solver.max_penetration() * cells_per_d / problem.diameter);
     if (step == 0) continue;
     total += seconds;
     material += r.seconds_material;

@@ -3,7 +3,9 @@
 // (tests/mpm) and its benchmark (bench/bench_quasi_static.cpp). A rigid pile of diameter D with a
 // 60° conical tip stands with its tip on the surface of a sand cylinder (radius `width_in_d` D,
 // height `height_in_d` D) at N g, from a K0 stress state; cells of D / `cells_per_d` (uniform),
-// 2 x 2 particles per cell, rollers on the outer side and the axis, fixed base.
+// 2 x 2 particles per cell, rollers on the outer side and the axis, fixed base. A hypoplastic
+// sand with intergranular strain starts with it fully mobilised by isotropic compression
+// (−R/√3 I), as the case files' default.
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 
 namespace pilempm::mpm::quasi_static {
@@ -19,7 +21,11 @@ struct PileProblem {
   double void_ratio = 0.7;
   double friction = 0.3;  ///< pile-sand μ
   ModelPtr model;         ///< the sand
-  Settings settings;      ///< geometry is set to axisymmetric
+  /// Geometry is set to axisymmetric. Default: a Newton step limit of 0.1 cells (without it the
+  /// Mohr-Coulomb push fails at 1.75 D, docs/quasi-static.md).
+  Settings settings = default_settings();
+
+  static Settings default_settings();
 
   /// The solver with the pile (body 0) and the sand in its K0 state (gravity multiplier N
   /// already reached: the first load step is the geostatic equilibrium).
@@ -27,5 +33,12 @@ struct PileProblem {
   /// The initial height of the sand's surface [m].
   double surface() const { return height_in_d * diameter; }
 };
+
+/// The sands of the pile verification (docs/verification.md §9.2). Mohr-Coulomb: E = 50 MPa,
+/// ν = 0.3, φ = 35°, ψ = 5°, c = 1 kPa.
+ModelPtr pile_mohr_coulomb_sand();
+/// Hypoplasticity with intergranular strain, the study's set `modified-medium-dense` with `IGS3`
+/// (docs/model.md §6; its e0 is 0.68).
+ModelPtr pile_hypoplastic_sand();
 
 }  // namespace pilempm::mpm::quasi_static

@@ -4,6 +4,7 @@
 #include <omp.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -19,6 +20,8 @@ namespace {
 // The Mandel components an in-plane problem uses, in the order of the 4-row B matrices.
 constexpr int kComponents[4] = {k11, k22, k33, k12};
 constexpr int kCorners = 4;
+// The most nodes the particles of one cell reach together (volumetric averaging).
+constexpr int kMaxCellNodes = 36;
 using Mat4 = Eigen::Matrix4d;
 using Vec4 = Eigen::Vector4d;
 
@@ -52,6 +55,58 @@ void node_share(const GridAxis& axis, int i, double& lo, double& hi) {
   hi = i + 1 < axis.node_count() ? 0.5 * (axis.node(i) + axis.node(i + 1)) : axis.node(i);
 }
 
+// A rigid body's surface with its vertices rounded by a radius ρ: the points within ρ of the
+// inner polygon Q, whose edges are the body's edges moved inward by ρ. The gap is d_Q − ρ, d_Q
+// the signed distance to Q, and the normal that of d_Q. On the faces this is the body's own
+// surface; at a vertex the normal turns continuously over an arc of radius ρ, also for points
+// that have penetrated (up to ρ). The sharp polygon's normal inside the body jumps at the
+// bisector of each vertex (by 30° at the pile's shoulder, 90° at a footing's edge), so that a
+// penetrated contact point passing a vertex changes its force's direction at once and the Newton
+// iterations chatter (docs/quasi-static.md).
+struct RoundedSurface {
+  RigidBody inner;        // Q, a polygon (for a pile: its mirrored section, queried at |r|)
+  std::vector<int> part;  // the body's surface part of Q's edge k
+  double radius = 0.0;
+  bool axisymmetric = false;
+
+  RoundedSurface(const RigidBody& body, double rounding)
+      : inner(RigidBody::polygon(inner_vertices(body, rounding))),
+        radius(rounding),
+        axisymmetric(body.axisymmetric()) {
+    const std::vector<Vec2>& v = body.vertices();
+    for (std::size_t k = 0; k < v.size(); ++k) {
+      // The part of the edge, as the body reports it just outside the edge's middle.
+      const Vec2 edge = v[(k + 1) % v.size()] - v[k];
+      const Vec2 normal = Vec2(edge.y(), -edge.x()).normalized();
+      part.push_back(body.query(v[k] + 0.5 * edge + 1.0e-9 * edge.norm() * normal).part);
+    }
+  }
+
+  // Vertex k joins edges k − 1 and k; moved inward along the mitre it lies ρ from both lines.
+  static std::vector<Vec2> inner_vertices(const RigidBody& body, double rounding) {
+    const std::vector<Vec2>& v = body.vertices();
+    const std::size_t count = v.size();
+    auto normal = [&](std::size_t k) {
+      const Vec2 edge = v[(k + 1) % count] - v[k];
+      return Vec2(Vec2(edge.y(), -edge.x()).normalized());
+    };
+    std::vector<Vec2> q;
+    for (std::size_t k = 0; k < count; ++k) {
+      const Vec2 a = normal((k + count - 1) % count), b = normal(k);
+      q.push_back(v[k] - rounding * (a + b) / (1.0 + a.dot(b)));
+    }
+    return q;
+  }
+
+  SurfaceQuery query(const Vec2& point) const {
+    SurfaceQuery result = inner.query(axisymmetric ? Vec2(std::abs(point.x()), point.y()) : point);
+    result.distance -= radius;
+    result.part = part[std::size_t(result.part)];
+    if (axisymmetric && point.x() < 0.0) result.normal.x() = -result.normal.x();
+    return result;
+  }
+};
+
 }  // namespace
 
 void Settings::validate() const {
@@ -68,6 +123,8 @@ void Settings::validate() const {
     throw InvalidValue("max_iterations", std::to_string(max_iterations), ">= 1");
   if (line_search_steps < 0)
     throw InvalidValue("line_search_steps", std::to_string(line_search_steps), ">= 0");
+  if (!(step_limit >= 0.0) || !std::isfinite(step_limit))
+    throw InvalidValue("step_limit", format_value(step_limit), ">= 0");
   if (max_cuts < 0) throw InvalidValue("max_cuts", std::to_string(max_cuts), ">= 0");
   if (easy_iterations < 0)
     throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
@@ -94,6 +151,18 @@ struct QuasiStaticSolver::StepSetup {
     double stiffness;
   };
   std::vector<GhostSpring> ghosts;
+  std::vector<RoundedSurface> surfaces;  // per body, at its start-of-increment position
+  // Volumetric averaging (Settings::volumetric_averaging): per cell, the nodes its particles
+  // reach and the volume-weighted mean volumetric row b̄ (x, y per node); per particle its cell
+  // and where each of its nodes sits in the cell's list.
+  struct CellMean {
+    int count = 0;
+    int node[kMaxCellNodes];
+    Vec2 row[kMaxCellNodes];
+  };
+  std::vector<CellMean> cells;
+  std::vector<int> cell;                  // per particle
+  std::vector<std::array<int, 16>> slot;  // per particle and stencil node
 };
 
 // The results of evaluating one iterate.
@@ -238,6 +307,50 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
           setup.ghosts.push_back({n, m, k});
         }
       }
+  setup.cells.clear();
+  setup.cell.assign(count, -1);
+  setup.slot.assign(settings_.volumetric_averaging ? count : 0, {});
+  if (settings_.volumetric_averaging) {
+    const int cells_x = grid_.x_axis().cell_count();
+    std::vector<int> index(std::size_t(cells_x * grid_.y_axis().cell_count()), -1);
+    std::vector<double> cell_volume;
+    for (std::size_t i = 0; i < count; ++i) {
+      const int c = grid_.y_axis().cell_of(p.position[i].y()) * cells_x +
+                    grid_.x_axis().cell_of(p.position[i].x());
+      if (index[std::size_t(c)] < 0) {
+        index[std::size_t(c)] = static_cast<int>(setup.cells.size());
+        setup.cells.emplace_back();
+        cell_volume.push_back(0.0);
+      }
+      const int k_cell = index[std::size_t(c)];
+      setup.cell[i] = k_cell;
+      StepSetup::CellMean& mean = setup.cells[std::size_t(k_cell)];
+      cell_volume[std::size_t(k_cell)] += p.volume[i];
+      const ParticleNodes& pn = setup.nodes[i];
+      for (int k = 0; k < pn.count; ++k) {
+        int j = 0;
+        while (j < mean.count && mean.node[j] != pn.node[k]) ++j;
+        if (j == mean.count) {
+          if (mean.count == kMaxCellNodes)
+            throw Error(
+                fmt::format("quasi-static: the particles of a cell reach more than {} "
+                            "nodes (particle {})",
+                            kMaxCellNodes, i));
+          mean.node[j] = pn.node[k];
+          mean.row[j] = Vec2::Zero();
+          ++mean.count;
+        }
+        setup.slot[i][std::size_t(k)] = j;
+        const double hoop = axisymmetric ? pn.weight[k] / p.position[i].x() : 0.0;
+        mean.row[j] += p.volume[i] * Vec2(pn.gradient[k].x() + hoop, pn.gradient[k].y());
+      }
+    }
+    for (std::size_t c = 0; c < setup.cells.size(); ++c)
+      for (int j = 0; j < setup.cells[c].count; ++j) setup.cells[c].row[j] /= cell_volume[c];
+  }
+  setup.surfaces.clear();
+  for (const RigidBody& body : bodies_)
+    setup.surfaces.emplace_back(body, settings_.contact.vertex_radius * grid_.min_spacing());
   setup.near_body.assign(count, 0);
   if (!bodies_.empty())
     for (std::size_t i = 0; i < count; ++i) {
@@ -277,6 +390,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   // The strain components that vary (rows of B): plane strain has no 33.
   const int used_columns = axisymmetric ? 4 : 3;
   const int used_column[4] = {0, 1, axisymmetric ? 2 : 3, 3};
+  const bool averaging = settings_.volumetric_averaging;
+  const double normal_components = axisymmetric ? 3.0 : 2.0;
 #pragma omp parallel for schedule(static) num_threads(threads_) reduction(|| : failed)
   for (long i = 0; i < count; ++i) {
     const ParticleNodes& pn = setup.nodes[std::size_t(i)];
@@ -291,6 +406,17 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     Vec6 strain;
     strain << gradient(0, 0), gradient(1, 1), hoop, 0.0, 0.0,
         kSqrt2 * 0.5 * (gradient(0, 1) + gradient(1, 0));
+    if (averaging) {  // the cell's mean volumetric increment replaces the particle's own
+      const StepSetup::CellMean& mean = setup.cells[std::size_t(setup.cell[std::size_t(i)])];
+      double mean_volumetric = 0.0;
+      for (int j = 0; j < mean.count; ++j)
+        mean_volumetric += mean.row[j].dot(trial.node_displacement[std::size_t(mean.node[j])]);
+      const double correction =
+          (mean_volumetric - (strain[k11] + strain[k22] + strain[k33])) / normal_components;
+      strain[k11] += correction;
+      strain[k22] += correction;
+      if (axisymmetric) strain[k33] += correction;
+    }
     trial.gradient[std::size_t(i)] = gradient;
     trial.hoop[std::size_t(i)] = hoop;
     trial.strain_increment[std::size_t(i)] = strain;
@@ -342,7 +468,10 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.contact.assign(2 * std::size_t(nodes), 0.0);
   if (tangent) trial.triplets.clear();
   const double body_force = -gravity * settings_.gravity;
-  Eigen::Matrix<double, 4, 2 * 16> b;
+  // B (4 rows, 2 columns per node) over the particle's nodes, or with volumetric averaging
+  // B̄ = B + m (b̄ − b_p)^T / n over the nodes of its cell (m: ones in the normal rows, b_p the
+  // particle's volumetric row, b̄ the cell's mean, n = 2 in plane strain, 3 in axisymmetry).
+  Eigen::Matrix<double, 4, 2 * kMaxCellNodes> b;
   for (long i = 0; i < count; ++i) {
     const ParticleNodes& pn = setup.nodes[std::size_t(i)];
     const double volume = p.volume[std::size_t(i)];
@@ -350,32 +479,49 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     const double radius = p.position[std::size_t(i)].x();
     const Vec2 load = traction * p.external_force[std::size_t(i)] +
                       Vec2(0.0, p.mass[std::size_t(i)] * body_force);
-    b.setZero();
+    const StepSetup::CellMean* mean =
+        averaging ? &setup.cells[std::size_t(setup.cell[std::size_t(i)])] : nullptr;
+    const int width = mean != nullptr ? mean->count : pn.count;
+    const int* column_node = mean != nullptr ? mean->node : pn.node;
+    b.leftCols(2 * width).setZero();
     for (int k = 0; k < pn.count; ++k) {
+      const int j = mean != nullptr ? setup.slot[std::size_t(i)][std::size_t(k)] : k;
       const Vec2& g = pn.gradient[k];
-      b(0, 2 * k) = g.x();
-      b(1, 2 * k + 1) = g.y();
-      if (axisymmetric) b(2, 2 * k) = pn.weight[k] / radius;
-      b(3, 2 * k) = g.y() / kSqrt2;
-      b(3, 2 * k + 1) = g.x() / kSqrt2;
+      b(0, 2 * j) = g.x();
+      b(1, 2 * j + 1) = g.y();
+      if (axisymmetric) b(2, 2 * j) = pn.weight[k] / radius;
+      b(3, 2 * j) = g.y() / kSqrt2;
+      b(3, 2 * j + 1) = g.x() / kSqrt2;
     }
+    if (mean != nullptr)
+      for (int j = 0; j < width; ++j)
+        for (int c = 0; c < 2; ++c) {
+          const double own = b(0, 2 * j + c) + b(1, 2 * j + c) + b(2, 2 * j + c);
+          const double correction = (mean->row[j][c] - own) / normal_components;
+          b(0, 2 * j + c) += correction;
+          b(1, 2 * j + c) += correction;
+          if (axisymmetric) b(2, 2 * j + c) += correction;
+        }
     const Vec4 stress4(s[k11], s[k22], s[k33], s[k12]);
+    for (int j = 0; j < width; ++j) {
+      const std::size_t n = std::size_t(column_node[j]);
+      trial.internal[2 * n] += volume * b.col(2 * j).dot(stress4);
+      trial.internal[2 * n + 1] += volume * b.col(2 * j + 1).dot(stress4);
+    }
     for (int k = 0; k < pn.count; ++k) {
       const std::size_t n = std::size_t(pn.node[k]);
-      trial.internal[2 * n] += volume * b.col(2 * k).dot(stress4);
-      trial.internal[2 * n + 1] += volume * b.col(2 * k + 1).dot(stress4);
       trial.external[2 * n] += pn.weight[k] * load.x();
       trial.external[2 * n + 1] += pn.weight[k] * load.y();
     }
     if (!tangent) continue;
-    const int columns = 2 * pn.count;
+    const int columns = 2 * width;
     const Eigen::Matrix<double, 4, Eigen::Dynamic> db =
         volume * trial.tangent[std::size_t(i)] * b.leftCols(columns);
     for (int c = 0; c < columns; ++c) {
-      const int col = setup.dof[2 * std::size_t(pn.node[c / 2]) + std::size_t(c % 2)];
+      const int col = setup.dof[2 * std::size_t(column_node[c / 2]) + std::size_t(c % 2)];
       if (col < 0) continue;
       for (int r = 0; r < columns; ++r) {
-        const int row = setup.dof[2 * std::size_t(pn.node[r / 2]) + std::size_t(r % 2)];
+        const int row = setup.dof[2 * std::size_t(column_node[r / 2]) + std::size_t(r % 2)];
         if (row < 0) continue;
         trial.triplets.emplace_back(row, col, b.col(r).dot(db.col(c)));
       }
@@ -416,7 +562,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       (void)l;
       for (std::size_t body = 0; body < bodies_.size(); ++body) {
         const Vec2 body_move = body < body_step.size() ? body_step[body] : Vec2::Zero();
-        const SurfaceQuery hit = bodies_[body].query(corner + moved - body_move);
+        const SurfaceQuery hit = setup.surfaces[body].query(corner + moved - body_move);
         if (!(hit.distance < margin)) continue;
         const ContactHistory& history = contact_history_[index];
         const Vec2 previous =
@@ -547,39 +693,61 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       last_matrix_ = matrix;
       return false;
     }
-    const Eigen::VectorXd step = linear_solver_.solve(-trial.residual);
+    Eigen::VectorXd step = linear_solver_.solve(-trial.residual);
+    // A Newton step that moves a node by more than step_limit cells is scaled down to that:
+    // where perfectly plastic soil offers a mechanism, only the contact restrains it, and an
+    // iterate that has lifted the soil off a body gives a step along the mechanism of many cells.
+    if (settings_.step_limit > 0.0 && step.size() > 0) {
+      const double largest = step.cwiseAbs().maxCoeff();
+      const double limit = settings_.step_limit * grid_.min_spacing();
+      if (largest > limit) step *= limit / largest;
+    }
     result.seconds_factorisation += seconds_since(factor_start);
     if (!step.allFinite()) {
       result.message = "the Newton step is not finite";
       return false;
     }
     if (iteration == 1) last_matrix_ = matrix;
-    // Line search: halve the step while the residual norm does not fall.
+    // Line search: halve the step while the residual norm does not fall. If no length lowers it,
+    // the length with the smallest residual is taken (not the shortest: near a change of the
+    // contact or plastic state the shortest step can raise ||R|| by orders of magnitude).
     const double before = trial.residual.norm();
     const double energy_before = std::abs(step.dot(trial.residual));
     double length = 1.0;
-    Trial next;
-    bool ok = false;
+    Trial next, best;
+    std::vector<double> best_du;
+    double best_norm = std::numeric_limits<double>::infinity(), best_length = 1.0;
     for (int attempt = 0; attempt <= settings_.line_search_steps; ++attempt) {
       std::vector<double> candidate = du;
       for (int d = 0; d < setup.unknowns; ++d) candidate[std::size_t(d)] += length * step[d];
-      ok = evaluate(setup, candidate, gravity, traction, body_step, true, next, result);
-      if (ok && next.residual.norm() < before) {
-        du.swap(candidate);
-        break;
-      }
-      if (attempt == settings_.line_search_steps) {
-        if (ok) du.swap(candidate);  // take the shortest step anyway
-        break;
+      if (evaluate(setup, candidate, gravity, traction, body_step, true, next, result)) {
+        const double norm = next.residual.norm();
+        if (norm < best_norm) {
+          best_norm = norm;
+          best_length = length;
+          best_du.swap(candidate);
+          std::swap(best, next);
+        }
+        if (norm < before) break;
       }
       length *= 0.5;
     }
-    if (!ok) {
+    if (!std::isfinite(best_norm)) {
       result.message = "a stress update failed in the iterations";
       return false;
     }
-    trial = std::move(next);
+    du.swap(best_du);
+    next = std::move(best);
+    length = best_length;
     IterationRecord iteration_record;
+    for (std::size_t c = 0; c < next.corner.size(); ++c) {
+      const PointContact& now = next.corner[c];
+      const PointContact& was = trial.corner[c];
+      iteration_record.contact_points += now.active ? 1 : 0;
+      iteration_record.slipping_points += now.slip ? 1 : 0;
+      if (now.active != was.active || now.slip != was.slip) ++iteration_record.contact_changes;
+    }
+    trial = std::move(next);
     iteration_record.residual_norm = trial.residual.norm();
     iteration_record.energy_norm = std::abs(length * step.dot(trial.residual));
     iteration_record.line_search = length;

@@ -62,6 +62,9 @@ struct Settings {
   int max_iterations = 25;
   /// Backtracking on ||R|| (halving the Newton step up to this many times, 0: none).
   int line_search_steps = 4;
+  /// The largest nodal displacement of one Newton step, in cells (of the smallest spacing); a
+  /// longer step is scaled down to it. 0: no limit.
+  double step_limit = 0.0;
   /// A sub-increment that does not converge is halved, at most this many times per load step.
   int max_cuts = 8;
   /// After a sub-increment that converged in at most `easy_iterations`, the next is doubled (up
@@ -87,6 +90,12 @@ struct Settings {
   /// docs/quasi-static.md).
   LinearSolverKind linear_solver =
       umfpack_available() ? LinearSolverKind::umfpack : LinearSolverKind::sparse_lu;
+  /// B-bar (Hughes 1980, Int. J. Numer. Meth. Eng. 15): the volumetric strain increment of each
+  /// particle is replaced by the volume-weighted mean over the particles of its grid cell, in
+  /// the stress update and in the strain-displacement operator (internal force and tangent),
+  /// against the volumetric locking of isochoric plastic flow (Tresca, ψ = 0) with 2 x 2
+  /// particles per cell (docs/quasi-static.md).
+  bool volumetric_averaging = false;
   ContactSettings contact;
   int threads = 0;  ///< OpenMP threads for the particle loops; 0: omp_get_max_threads()
 
@@ -109,6 +118,10 @@ struct IterationRecord {
   double residual_norm = 0.0;  ///< ||R|| after the iteration [N]
   double energy_norm = 0.0;    ///< |δu · R_before| [J]
   double line_search = 1.0;    ///< the step length taken
+  int contact_points = 0;      ///< contact points in contact after the iteration
+  int slipping_points = 0;     ///< of them, slipping
+  /// Contact points whose state (out, stick, slip) differs from the iterate before.
+  int contact_changes = 0;
 };
 
 /// A converged (or failed) sub-increment of a load step.

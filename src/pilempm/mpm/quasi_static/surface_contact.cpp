@@ -13,6 +13,8 @@ void ContactSettings::validate() const {
     throw InvalidValue("contact tangential_ratio", format_value(tangential_ratio), "> 0");
   if (!(stiffness_margin >= 0.0) || !std::isfinite(stiffness_margin))
     throw InvalidValue("contact stiffness_margin", format_value(stiffness_margin), ">= 0");
+  if (!(vertex_radius >= 0.0 && vertex_radius <= 0.5))
+    throw InvalidValue("contact vertex_radius", format_value(vertex_radius), "in [0, 0.5]");
 }
 
 PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,

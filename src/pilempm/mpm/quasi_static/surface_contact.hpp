@@ -25,6 +25,10 @@ struct ContactSettings {
   /// Points closer than this fraction of the particle size outside the surface carry the stick
   /// stiffness in the first Newton matrix of an increment, without force (see penalty_contact).
   double stiffness_margin = 0.01;
+  /// The bodies' vertices are rounded by this fraction of the grid's smallest spacing, so that
+  /// the normal turns continuously around a vertex for penetrated points too (0: sharp, the
+  /// default: on the pile, 0.25 made the Newton iterations fail at 0.5 D, docs/quasi-static.md).
+  double vertex_radius = 0.0;
 
   /// Throws InvalidValue naming the first setting out of range.
   void validate() const;
