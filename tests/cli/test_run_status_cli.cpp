@@ -208,7 +208,7 @@ TEST_F(RunStatusCli, ElementRunCalibrateAndStudiesRefuseAFolderWithAnotherRun) {
   fs::create_directories(out / "mpm");
   std::ofstream(out / "particles.pvd") << "<VTKFile/>\n";
   std::ofstream(out / "mpm" / "energies.csv") << "time_s\n";
-  for (const std::string command :
+  for (const std::string& command :
        {"element run --only " + std::string("oed-original-e0.70") + " --out '" + out.string() + "'",
         "calibrate '" + std::string(PILEMPM_SOURCE_DIR) +
             "/examples/calibration/baskarp.toml' --out '" + out.string() + "' --no-plots",
@@ -220,6 +220,21 @@ TEST_F(RunStatusCli, ElementRunCalibrateAndStudiesRefuseAFolderWithAnotherRun) {
                                                                       << r.output;
   }
   EXPECT_TRUE(fs::exists(out / "particles.pvd"));
+}
+
+// A study continues in its own folder with --resume and --report-only, without --overwrite.
+TEST_F(RunStatusCli, AStudyContinuesInItsOwnFolder) {
+  const fs::path out = dir_ / "study";
+  const std::string report = "study centrifuge --groups checks --report-only --no-plots --out '" +
+                             out.string() + "' --cases '" + PILEMPM_SOURCE_DIR +
+                             "/examples/centrifuge'";
+  Result r = run_pilempm(report, 120);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  r = run_pilempm(report, 120);  // its README.md and figures.json are the study's own
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  r = run_pilempm(report + " --overwrite", 120);
+  EXPECT_EQ(r.exit_code, 2) << r.output;  // --overwrite would remove the runs it reports
+  EXPECT_TRUE(contains(r.output, "--overwrite")) << r.output;
 }
 
 TEST_F(RunStatusCli, ElementRunOverwritesOnlyWhenAskedAndKeepsForeignFiles) {
