@@ -6,10 +6,8 @@
 // full disk is an error that leaves no temporary file.
 #include <gtest/gtest.h>
 
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -175,17 +173,7 @@ TEST_F(RunStatusCli, MpmRunRefusesAnotherRunsFolderAndRestartsInItsOwn) {
 // `pilempm ARGUMENTS` under a file-size limit of `kib` KiB (SIGXFSZ ignored, so a write past it
 // fails with EFBIG as on a full disk).
 Result run_on_a_small_disk(int kib, const std::string& arguments) {
-  const std::string command = "sh -c \"trap '' XFSZ; ulimit -f " + std::to_string(kib) + "; '" +
-                              std::string(PILEMPM_BINARY) + "' " + arguments + " 2>&1\"";
-  Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
+  return run_pilempm(arguments, 0, "trap '' XFSZ; ulimit -f " + std::to_string(kib) + "; ");
 }
 
 // A disk that fills during the run (64 KiB: the small files fit, a checkpoint does not) stops it
