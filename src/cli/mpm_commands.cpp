@@ -48,10 +48,12 @@ void run_mpm(const MpmRunFlags& flags) {
   const simulation::MpmCase c = read_mpm_case(flags.case_file);
   double total = 0.0;
   for (const simulation::MpmPhase& phase : c.phases) total += phase.duration;
-  fmt::print("{}: {} region{}, {} bod{}, {} phase{}, at most {:.6g} s simulated -> {}/\n", c.source,
-             c.regions.size(), c.regions.size() == 1 ? "" : "s", c.bodies.size(),
+  fmt::print("{}: {} region{}, {} bod{}, {} phase{}, {} analysis, at most {:.6g} s {} -> {}/\n",
+             c.source, c.regions.size(), c.regions.size() == 1 ? "" : "s", c.bodies.size(),
              c.bodies.size() == 1 ? "y" : "ies", c.phases.size(), c.phases.size() == 1 ? "" : "s",
-             total, flags.out);
+             to_string(c.analysis), total,
+             c.analysis == simulation::MpmAnalysis::quasi_static ? "of pseudo-time" : "simulated",
+             flags.out);
   std::fflush(stdout);
   OutputFolderOptions folder;
   folder.resume = restarts_in_its_own_folder(flags);
@@ -71,6 +73,13 @@ void run_mpm(const MpmRunFlags& flags) {
   for (const simulation::MpmPhaseEnd& end : summary.phase_ends)
     fmt::print("phase {}: ended at t = {:.6g} s, step {}: {}\n", end.phase, end.time, end.steps,
                end.reason);
+  if (summary.analysis == simulation::MpmAnalysis::quasi_static)
+    fmt::print(
+        "quasi-static: {} load steps, {} Newton iterations ({:.1f} per step, at most {}), {} "
+        "cuts; largest contact penetration {:.3g} m\n",
+        summary.steps, summary.newton_iterations,
+        summary.steps > 0 ? double(summary.newton_iterations) / double(summary.steps) : 0.0,
+        summary.most_newton_iterations, summary.newton_cuts, summary.max_penetration);
   fmt::print(
       "done: {} steps to t = {:.6g} s in {:.2f} s wall; {} snapshots in {}, energies in "
       "{}{}\n",

@@ -609,7 +609,7 @@ TEST(CentrifugeCase, ForceStopRulesCompareTheMovingAverageOfTheForce) {
     // τ df/dt = F − f with F constant over each step, from the first step's force.
     double mean = 0.0, last = 0.0, largest_lag = 0.0;
     for (int i = 0; i < 40; ++i) {
-      const MpmStepPlan plan = push.plan_step(push.end_time());
+      const MpmStepPlan plan = push.plan_step(push.end_time(), solver.next_time_step());
       ASSERT_TRUE(plan.own_step);
       const double dt = solver.step();
       push.record_step(dt);

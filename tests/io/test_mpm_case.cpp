@@ -784,7 +784,7 @@ TEST(MpmCase, PileRowsOfBodiesCsvAreFullBodyForces) {
   MpmPhaseControl install(c, 1, solver);
   install.start(mpm_traction_forces(c, solver.particles()));
   for (int i = 0; i < 30; ++i) {
-    const MpmStepPlan plan = install.plan_step(install.end_time());
+    const MpmStepPlan plan = install.plan_step(install.end_time(), solver.next_time_step());
     ASSERT_TRUE(plan.own_step);
     solver.step();
   }

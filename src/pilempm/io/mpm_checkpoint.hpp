@@ -8,13 +8,14 @@
 // continued with a different parameter set while every particle keeps its stress, void ratio and
 // the history variables its model declares (e.g. the intergranular strain). Files are written
 // atomically (FILE.<unique>.tmp, then renamed). Every dataset carries a checksum, and HDF5's
-// metadata its own: a damaged file is refused naming the dataset.
+// metadata its own: a damaged file is refused naming the dataset. The file layout, the writer and
+// the reader are in io/checkpoint/.
 #include <filesystem>
 #include <map>
 #include <string>
 #include <vector>
 
-#include "pilempm/mpm/solver.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 
 namespace pilempm {
 
@@ -33,11 +34,11 @@ struct MpmCheckpointInfo {
 };
 
 /// The version of the file layout that write_mpm_checkpoint writes and read_mpm_checkpoint reads.
-inline constexpr int kMpmCheckpointFormatVersion = 2;
+inline constexpr int kMpmCheckpointFormatVersion = 3;
 
 /// Writes `solver` and `info` to `file` (HDF5), atomically. Throws Error naming the file when
 /// it cannot be written.
-void write_mpm_checkpoint(const std::filesystem::path& file, const mpm::Solver& solver,
+void write_mpm_checkpoint(const std::filesystem::path& file, const mpm::MpmState& solver,
                           const MpmCheckpointInfo& info);
 
 /// Reads `file` into `solver`, which must be made from the same case (the same geometry, grid
@@ -45,6 +46,6 @@ void write_mpm_checkpoint(const std::filesystem::path& file, const mpm::Solver& 
 /// replaces the particles, the rigid bodies' positions, velocities, friction and contact
 /// distances, and the run state. Call it after setting the solver's settings. Throws InputError
 /// naming the file and what does not match (nothing in `solver` is changed then).
-MpmCheckpointInfo read_mpm_checkpoint(const std::filesystem::path& file, mpm::Solver& solver);
+MpmCheckpointInfo read_mpm_checkpoint(const std::filesystem::path& file, mpm::MpmState& solver);
 
 }  // namespace pilempm

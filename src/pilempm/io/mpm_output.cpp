@@ -7,7 +7,9 @@
 #include <cctype>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <sstream>
+#include <string_view>
 
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/core/error.hpp"
@@ -19,6 +21,7 @@
 #include "pilempm/simulation/explicit_scheme.hpp"
 #include "pilempm/simulation/phase_control.hpp"
 #include "pilempm/simulation/progress.hpp"
+#include "pilempm/simulation/quasi_static_scheme.hpp"
 
 namespace pilempm {
 
@@ -30,7 +33,7 @@ constexpr double kKPa = 1.0e3;
 
 }  // namespace
 
-std::vector<double> mpm_igs_sizes(const mpm::Solver& solver) {
+std::vector<double> mpm_igs_sizes(const mpm::MpmState& solver) {
   std::vector<double> sizes;
   for (const ModelPtr& model : solver.materials()) {
     const auto* hypoplastic = dynamic_cast<const Hypoplastic*>(model.get());
@@ -41,7 +44,7 @@ std::vector<double> mpm_igs_sizes(const mpm::Solver& solver) {
   return sizes;
 }
 
-PointCloud mpm_particle_cloud(const mpm::Solver& solver,
+PointCloud mpm_particle_cloud(const mpm::MpmState& solver,
                               const std::vector<mpm::Vec2>& initial_position,
                               const std::vector<int>& material_index) {
   const mpm::Particles& particles = solver.particles();
@@ -124,7 +127,7 @@ std::string mpm_energies_header(mpm::Geometry geometry) {
       per);
 }
 
-std::string mpm_energies_row(const mpm::Solver& solver, double time_step) {
+std::string mpm_energies_row(const mpm::MpmState& solver, double time_step) {
   const mpm::Energies& e = solver.energies();
   return csv_row({csv_number(solver.time(), 10), std::to_string(solver.steps()),
                   csv_number(time_step, 6), csv_number(e.kinetic, 10), csv_number(e.internal, 10),
@@ -135,7 +138,7 @@ std::string mpm_energies_row(const mpm::Solver& solver, double time_step) {
 namespace {
 
 // The surface part names of all bodies, in order of first appearance.
-std::vector<std::string> all_part_names(const mpm::Solver& solver) {
+std::vector<std::string> all_part_names(const mpm::MpmState& solver) {
   std::vector<std::string> names;
   for (int b = 0; b < solver.rigid_body_count(); ++b)
     for (const std::string& name : solver.rigid_body(b).part_names())
@@ -153,12 +156,15 @@ std::string column_word(const std::string& name) {
 
 }  // namespace
 
-std::string mpm_bodies_header(const mpm::Solver& solver) {
-  const bool axisymmetric = solver.settings().geometry == mpm::Geometry::axisymmetric;
+std::string mpm_bodies_header(const mpm::MpmState& solver) {
+  const bool axisymmetric = solver.geometry() == mpm::Geometry::axisymmetric;
+  const bool inertial = std::string_view(solver.analysis()) == "explicit";
   std::string header = fmt::format(
       "# rigid bodies: displacement since t = 0, velocity, contact force of the soil on the body "
-      "(the mean over the time since the previous row of the body) in {} (+y up: a body pushed "
-      "down into soil gets force_y > 0), in total and per surface part\n",
+      "({}) in {} (+y up: a body pushed down into soil gets force_y > 0), in total and per "
+      "surface part\n",
+      inertial ? "the mean over the time since the previous row of the body"
+               : "at the row's time, in equilibrium (quasi-static; time is pseudo-time)",
       axisymmetric ? "N of the full body (2 pi times the per-radian force; force_x = 0, the "
                      "radial forces cancel around the axis)"
                    : "N per metre of thickness (plane strain)");
@@ -174,10 +180,10 @@ std::string mpm_bodies_header(const mpm::Solver& solver) {
   return header;
 }
 
-std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::string>& body_names,
+std::string mpm_bodies_rows(const mpm::MpmState& solver, const std::vector<std::string>& body_names,
                             const std::string& phase,
                             const std::vector<mpm::RigidBodyForce>* forces) {
-  const mpm::Geometry geometry = solver.settings().geometry;
+  const mpm::Geometry geometry = solver.geometry();
   const double factor = mpm_full_body_factor(geometry);
   const double radial = geometry == mpm::Geometry::axisymmetric ? 0.0 : 1.0;
   const std::vector<std::string> parts = all_part_names(solver);
@@ -225,19 +231,19 @@ constexpr const char* kSeriesRecord = "particles.pvd";  // "time<TAB>file relati
 // series, energies.csv and bodies.csv (rewritten at every snapshot and at the end), checkpoints.
 class MpmOutputWriter final : public RunObserver {
  public:
-  // `solver`: the scheme's state, whose next time step each row of energies.csv gives.
-  MpmOutputWriter(const MpmCase& c, const std::filesystem::path& out_dir, mpm::Solver& solver,
+  // `scheme`: the run's analysis, whose next step each row of energies.csv gives.
+  MpmOutputWriter(const MpmCase& c, const std::filesystem::path& out_dir, Scheme& scheme,
                   MpmRunSummary& summary)
       : case_(c),
-        solver_(solver),
+        scheme_(scheme),
         out_dir_(out_dir),
         absolute_out_(std::filesystem::absolute(out_dir)),
         summary_(summary),
         series_(absolute_out_ / "particles.pvd"),
-        initial_position_(solver.particles().position),
+        initial_position_(scheme.state().particles().position),
         with_bodies_(!c.bodies.empty()),
         energies_(mpm_energies_header(c.geometry)),
-        bodies_(with_bodies_ ? mpm_bodies_header(solver) : std::string()) {
+        bodies_(with_bodies_ ? mpm_bodies_header(scheme.state()) : std::string()) {
     std::map<std::string, int> distinct;
     for (const std::string& name : c.material_names)
       material_index_.push_back(
@@ -280,12 +286,12 @@ class MpmOutputWriter final : public RunObserver {
   }
 
   void after_step(const Scheme& scheme, const MpmPhase& /*phase*/, double dt) override {
-    if (with_bodies_) force_means_.add_step(scheme.state(), dt);
+    if (with_bodies_ && scheme.inertial()) force_means_.add_step(scheme.state(), dt);
   }
 
   void record(const Scheme& scheme, const MpmPhase& phase) override {
-    const mpm::Solver& solver = scheme.state();
-    energies_ += mpm_energies_row(solver, solver_.next_time_step());
+    const mpm::MpmState& solver = scheme.state();
+    energies_ += mpm_energies_row(solver, scheme_.step_length());
     if (with_bodies_) {
       const std::vector<mpm::RigidBodyForce> means = force_means_.take(solver);
       bodies_ += mpm_bodies_rows(solver, body_names_, phase.name, &means);
@@ -293,7 +299,7 @@ class MpmOutputWriter final : public RunObserver {
   }
 
   void snapshot(const Scheme& scheme, const MpmPhase& /*phase*/) override {
-    const mpm::Solver& solver = scheme.state();
+    const mpm::MpmState& solver = scheme.state();
     const std::string name = fmt::format("particles_{:05d}.vtu", vtu_count_++);
     const std::filesystem::path file = out_dir_ / name;
     write_vtu(file, mpm_particle_cloud(solver, initial_position_, material_index_));
@@ -305,6 +311,27 @@ class MpmOutputWriter final : public RunObserver {
   }
 
   void checkpoint(const Scheme& scheme, std::size_t phases_done, const MpmPhase& phase) override {
+    write_checkpoint(scheme, phases_done, phase, "");
+  }
+
+  void failed(const Scheme& scheme, const MpmPhase& phase) override {
+    write_records();
+    if (scheme.inertial()) return;  // an explicit step that failed leaves a state half done
+    // The quasi-static state is that of the last converged load step: kept as a checkpoint
+    // from which the failed phase can be run again (e.g. with a smaller displacement step).
+    const auto index = static_cast<std::size_t>(&phase - case_.phases.data());
+    try {
+      write_checkpoint(scheme, index, phase, "last_converged_");
+    } catch (const Error&) {
+      // The run's own error is the one to report.
+    }
+  }
+  void run_end(const Scheme& /*scheme*/) override { write_records(); }
+
+ private:
+  // A checkpoint after `phases_done` phases; `prefix` before its usual name.
+  void write_checkpoint(const Scheme& scheme, std::size_t phases_done, const MpmPhase& phase,
+                        const std::string& prefix) {
     MpmCheckpointInfo info;
     info.case_source = case_.source;
     info.next_phase = static_cast<int>(phases_done);
@@ -319,22 +346,19 @@ class MpmOutputWriter final : public RunObserver {
       entries += '\n';
     }
     info.records[kSeriesRecord] = entries;
-    const std::filesystem::path file = out_dir_ / mpm_checkpoint_name(phases_done, phase.name);
+    const std::filesystem::path file =
+        out_dir_ / (prefix + mpm_checkpoint_name(phases_done, phase.name));
     write_mpm_checkpoint(file, scheme.state(), info);
     summary_.checkpoints.push_back(file);
   }
 
-  void failed(const Scheme& /*scheme*/, const MpmPhase& /*phase*/) override { write_records(); }
-  void run_end(const Scheme& /*scheme*/) override { write_records(); }
-
- private:
   void write_records() {
     write_file_atomically(summary_.energies_file, energies_);
     if (with_bodies_) write_file_atomically(summary_.bodies_file, bodies_);
   }
 
   const MpmCase& case_;
-  mpm::Solver& solver_;
+  Scheme& scheme_;
   std::filesystem::path out_dir_, absolute_out_;
   MpmRunSummary& summary_;
   PvdSeries series_;
@@ -354,38 +378,53 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
                            std::ostream* progress_stream, const std::filesystem::path& restart,
                            const MpmRunHooks& hooks) {
   prepare_output_directory(out_dir);
-  ExplicitScheme scheme(c);
+  std::unique_ptr<Scheme> scheme;
+  QuasiStaticScheme* quasi_static = nullptr;
+  if (c.analysis == MpmAnalysis::quasi_static) {
+    auto q = std::make_unique<QuasiStaticScheme>(c);
+    quasi_static = q.get();
+    scheme = std::move(q);
+  } else {
+    scheme = std::make_unique<ExplicitScheme>(c);
+  }
   MpmRunSummary summary;
-  MpmOutputWriter writer(c, out_dir, scheme.state(), summary);
+  summary.analysis = c.analysis;
+  MpmOutputWriter writer(c, out_dir, *scheme, summary);
   if (!restart.empty()) {
     // The case's solver takes the checkpoint's state; the material sets of the phases before
     // apply. (The next phase's settings are set when it begins: the checkpoint is taken at a
     // phase end, and a phase start forgets the cached wave speeds either way.)
-    mpm::Solver& solver = scheme.state();
-    const MpmCheckpointInfo info = read_mpm_checkpoint(restart, solver);
+    mpm::MpmState& state = scheme->state();
+    const MpmCheckpointInfo info = read_mpm_checkpoint(restart, state);
     if (info.next_phase < 1 || static_cast<std::size_t>(info.next_phase) >= c.phases.size())
       throw InputError(restart.string(), 0, "--restart", restart.string(),
                        fmt::format("holds the state after {} phase(s), and the case has {}: "
                                    "nothing left to run",
                                    info.next_phase, c.phases.size()));
     summary.first_phase = static_cast<std::size_t>(info.next_phase);
-    if (progress_stream != nullptr && info.threads > 0 && info.threads != solver.threads())
+    if (progress_stream != nullptr && info.threads > 0 && info.threads != state.threads())
       *progress_stream << fmt::format(
           "mpm: the checkpoint was written with {} thread(s), this run has {}: it continues to "
           "round-off, not bitwise\n",
-          info.threads, solver.threads());
+          info.threads, state.threads());
     for (std::size_t k = 0; k < summary.first_phase; ++k)
       for (const MpmMaterialChange& change : c.phases[k].material_changes)
-        solver.set_material(change.model, change.replacement);
+        state.set_material(change.model, change.replacement);
     writer.restore(info, restart);
   }
   ProgressObserver progress(progress_stream, hooks.progress_on_terminal);
   std::vector<RunObserver*> observers{&writer, &progress};
   observers.insert(observers.end(), hooks.observers.begin(), hooks.observers.end());
-  summary.phase_ends = run_phases(c, scheme, summary.first_phase, observers);
-  summary.steps = scheme.steps();
-  summary.time = scheme.time();
+  summary.phase_ends = run_phases(c, *scheme, summary.first_phase, observers);
+  summary.steps = scheme->steps();
+  summary.time = scheme->time();
   summary.wall_seconds = progress.wall_seconds();
+  if (quasi_static != nullptr) {
+    summary.newton_iterations = quasi_static->total_iterations();
+    summary.newton_cuts = quasi_static->total_cuts();
+    summary.most_newton_iterations = quasi_static->most_iterations();
+    summary.max_penetration = quasi_static->max_penetration();
+  }
   return summary;
 }
 

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "pilempm/io/vtu_writer.hpp"
-#include "pilempm/mpm/solver.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/simulation/mpm_case.hpp"
 #include "pilempm/simulation/run_loop.hpp"
 
@@ -19,29 +19,30 @@ namespace pilempm {
 
 /// The size R of the intergranular strain of each of the solver's models (0: none), by which
 /// ρ = ||δ|| / R.
-std::vector<double> mpm_igs_sizes(const mpm::Solver& solver);
+std::vector<double> mpm_igs_sizes(const mpm::MpmState& solver);
 
 /// The particles as a point cloud, with the fields listed in docs/mpm-case-files.md.
 /// `initial_position` gives the displacement; `material_index` maps a model index to the index
 /// of its material name (what the "material" field holds).
-PointCloud mpm_particle_cloud(const mpm::Solver& solver,
+PointCloud mpm_particle_cloud(const mpm::MpmState& solver,
                               const std::vector<mpm::Vec2>& initial_position,
                               const std::vector<int>& material_index);
 
 /// The header of energies.csv (a comment line with the units, then the column names).
 std::string mpm_energies_header(mpm::Geometry geometry);
-/// One row of energies.csv; `time_step` is the step the solver takes from there (CFL) [s].
-std::string mpm_energies_row(const mpm::Solver& solver, double time_step);
+/// One row of energies.csv; `time_step` is the step the analysis takes from there (the CFL
+/// step, or a load step's pseudo-time) [s].
+std::string mpm_energies_row(const mpm::MpmState& solver, double time_step);
 
 /// The header of bodies.csv (a comment line with the units, then the column names): one
 /// force_y_<part>_N column per surface part name of the solver's bodies.
-std::string mpm_bodies_header(const mpm::Solver& solver);
+std::string mpm_bodies_header(const mpm::MpmState& solver);
 /// One row per body of bodies.csv at the solver's time; `body_names` by body index, `phase` the
 /// name of the phase. Forces are those of the full body in axisymmetry (2π times the solver's
 /// per-radian force; the radial force_x is 0: it cancels around the axis), per metre in plane
 /// strain: `forces` by body index when given (the means since the previous row), else those of
 /// the solver's last step.
-std::string mpm_bodies_rows(const mpm::Solver& solver, const std::vector<std::string>& body_names,
+std::string mpm_bodies_rows(const mpm::MpmState& solver, const std::vector<std::string>& body_names,
                             const std::string& phase,
                             const std::vector<mpm::RigidBodyForce>* forces = nullptr);
 
@@ -55,6 +56,12 @@ struct MpmRunSummary {
   std::vector<simulation::MpmPhaseEnd> phase_ends;  ///< the phases this run ran, in order
   std::vector<std::filesystem::path> checkpoints;   ///< written by this run
   std::size_t first_phase = 0;                      ///< > 0 when restarted
+  simulation::MpmAnalysis analysis = simulation::MpmAnalysis::explicit_dynamic;
+  /// Quasi-static: Newton iterations and cuts over the run, the most iterations of one load
+  /// step, and the largest penetration of a contact point into a body [m].
+  long newton_iterations = 0, newton_cuts = 0;
+  int most_newton_iterations = 0;
+  double max_penetration = 0.0;
 };
 
 /// What a caller may do during a run, besides the files: observers of the run loop
@@ -65,7 +72,8 @@ struct MpmRunHooks {
   bool progress_on_terminal = false;
 };
 
-/// Runs the phases of a case with the explicit scheme (simulation::run_phases), writing into
+/// Runs the phases of a case with the case's analysis (explicit or quasi-static,
+/// simulation::run_phases), writing into
 /// `out_dir` (created if needed): particles_NNNNN.vtu,
 /// particles.pvd, energies.csv, with rigid bodies bodies.csv, and at the end of each phase that
 /// asks for it checkpoint_NN_<phase>.h5 (NN: the number of phases done). Progress lines and the

@@ -3,7 +3,7 @@
 
 namespace pilempm::simulation {
 
-void MpmBodyForceMeans::add_step(const mpm::Solver& solver, double dt) {
+void MpmBodyForceMeans::add_step(const mpm::MpmState& solver, double dt) {
   impulse_.resize(static_cast<std::size_t>(solver.rigid_body_count()));
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
     const mpm::RigidBodyForce& force = solver.rigid_body_force(b);
@@ -15,7 +15,7 @@ void MpmBodyForceMeans::add_step(const mpm::Solver& solver, double dt) {
   elapsed_ += dt;
 }
 
-std::vector<mpm::RigidBodyForce> MpmBodyForceMeans::take(const mpm::Solver& solver) {
+std::vector<mpm::RigidBodyForce> MpmBodyForceMeans::take(const mpm::MpmState& solver) {
   std::vector<mpm::RigidBodyForce> means;
   for (int b = 0; b < solver.rigid_body_count(); ++b) {
     if (elapsed_ > 0.0 && static_cast<std::size_t>(b) < impulse_.size()) {

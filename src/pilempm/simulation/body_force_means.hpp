@@ -2,7 +2,7 @@
 // The contact forces on the rigid bodies averaged over time between two records.
 #include <vector>
 
-#include "pilempm/mpm/solver.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 
 namespace pilempm::simulation {
 
@@ -12,10 +12,10 @@ namespace pilempm::simulation {
 class MpmBodyForceMeans {
  public:
   /// Adds the solver's last step, of length `dt` [s].
-  void add_step(const mpm::Solver& solver, double dt);
+  void add_step(const mpm::MpmState& solver, double dt);
   /// The means since the last take() (the last step's forces when no time has passed), and a
   /// new start.
-  std::vector<mpm::RigidBodyForce> take(const mpm::Solver& solver);
+  std::vector<mpm::RigidBodyForce> take(const mpm::MpmState& solver);
 
  private:
   std::vector<mpm::RigidBodyForce> impulse_;

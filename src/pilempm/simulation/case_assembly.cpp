@@ -108,13 +108,13 @@ mpm::Particles make_mpm_particles(const MpmCase& c, const mpm::Grid& grid) {
   return outside;
 }
 
-void set_geostatic_state(const MpmCase& c, mpm::Solver& solver, double gravity) {
-  mpm::Particles& particles = solver.particles();
+void set_geostatic_state(const MpmCase& c, mpm::MpmState& state, double gravity) {
+  mpm::Particles& particles = state.particles();
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const auto region = static_cast<std::size_t>(particles.material[p]);  // one model a region
     const MpmRegion& r = c.regions.at(region);
     if (r.initial_stress != MpmInitialStress::geostatic) continue;
-    geostatic_state(c, r, *solver.materials()[region], particles.position[p], gravity,
+    geostatic_state(c, r, *state.materials()[region], particles.position[p], gravity,
                     particles.state[p]);
     particles.velocity[p] = mpm::Vec2::Zero();
   }
@@ -160,6 +160,39 @@ mpm::Solver make_mpm_solver(const MpmCase& c) {
   mpm::Solver solver(std::move(grid), std::move(particles), c.models, settings);
   for (const MpmBody& b : c.bodies) solver.add_rigid_body(make_rigid_body(b));
   return solver;
+}
+
+mpm::quasi_static::Settings quasi_static_settings(const MpmCase& c, const MpmPhase& /*phase*/) {
+  mpm::quasi_static::Settings s = c.quasi_static;
+  s.geometry = c.geometry;
+  s.shape_function = c.solver.shape_function;
+  s.gravity = c.solver.gravity;
+  s.threads = c.solver.threads;
+  return s;
+}
+
+mpm::quasi_static::QuasiStaticSolver make_quasi_static_solver(const MpmCase& c) {
+  for (const MpmRegion& r : c.regions)
+    if (r.fill.initial_velocity != mpm::Vec2::Zero())
+      throw InputError(c.source, r.line, r.key + ".velocity_x_m_per_s", "",
+                       "an initial velocity needs inertia: the quasi-static analysis has none "
+                       "(use [solver] analysis = \"explicit\")");
+  if (!c.solver.absorbing_boundaries.empty())
+    throw InputError(c.source, 0, "boundaries", "absorbing",
+                     "absorbing boundaries damp waves, which the quasi-static analysis does not "
+                     "have (use [solver] analysis = \"explicit\", or a fixed or roller side)");
+  mpm::Grid grid = make_mpm_grid(c);
+  mpm::Particles particles = make_mpm_particles(c, grid);
+  mpm::quasi_static::QuasiStaticSolver solver(std::move(grid), std::move(particles), c.models,
+                                              c.phases.empty()
+                                                  ? quasi_static_settings(c, MpmPhase{})
+                                                  : quasi_static_settings(c, c.phases.front()));
+  for (const MpmBody& b : c.bodies) solver.add_rigid_body(make_rigid_body(b));
+  return solver;
+}
+
+std::string_view to_string(MpmAnalysis analysis) {
+  return analysis == MpmAnalysis::quasi_static ? "quasi-static" : "explicit";
 }
 
 }  // namespace pilempm::simulation

@@ -23,7 +23,7 @@ std::string ExplicitScheme::begin_phase(std::size_t index) {
 
 Advance ExplicitScheme::advance(double target) {
   if (!control_) throw Error("ExplicitScheme::advance: no phase begun");
-  const MpmStepPlan plan = control_->plan_step(target);
+  const MpmStepPlan plan = control_->plan_step(target, solver_.next_time_step());
   const double step_start = solver_.time();
   if (plan.own_step)
     solver_.step();

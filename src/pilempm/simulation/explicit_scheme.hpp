@@ -23,8 +23,13 @@ class ExplicitScheme final : public Scheme {
   double phase_end_time() const override;
   double time() const override { return solver_.time(); }
   long steps() const override { return solver_.steps(); }
-  const mpm::Solver& state() const override { return solver_; }
-  mpm::Solver& state() override { return solver_; }
+  bool inertial() const override { return true; }
+  double step_length() override { return solver_.next_time_step(); }
+  const mpm::MpmState& state() const override { return solver_; }
+  mpm::MpmState& state() override { return solver_; }
+  /// The explicit solver itself (its settings, time step, run state).
+  const mpm::Solver& solver() const { return solver_; }
+  mpm::Solver& solver() { return solver_; }
 
  private:
   const MpmCase& case_;

@@ -14,6 +14,7 @@
 #include "pilempm/constitutive/material_spec.hpp"
 #include "pilempm/mpm/grid.hpp"
 #include "pilempm/mpm/particles.hpp"
+#include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 #include "pilempm/mpm/rigid_body.hpp"
 #include "pilempm/mpm/solver.hpp"
 
@@ -144,7 +145,18 @@ struct MpmPhase {
   /// [s]; 0: the force of the last step.
   double stop_force_averaging = 0.0;
   std::vector<MpmMaterialChange> material_changes;
+  /// Quasi-static analysis: the largest body travel of one load step [m]; 0: the case's.
+  double displacement_step = 0.0;
 };
+
+/// Which analysis advances the case (docs/mpm-case-files.md, "Analyses").
+enum class MpmAnalysis {
+  explicit_dynamic,  ///< "explicit": time steps of the explicit dynamic solver (mpm::Solver)
+  quasi_static,      ///< "quasi-static": load steps of static equilibrium (Newton), pseudo-time
+};
+
+/// "explicit" or "quasi-static".
+std::string_view to_string(MpmAnalysis analysis);
 
 struct MpmCase {
   std::string source;  ///< the file name used in messages
@@ -152,7 +164,13 @@ struct MpmCase {
   mpm::Geometry geometry = mpm::Geometry::plane_strain;
   std::vector<double> x_nodes, y_nodes;                ///< grid node coordinates [m]
   std::array<mpm::BoundaryCondition, 4> boundaries{};  ///< by mpm::Side
-  mpm::SolverSettings solver;               ///< the settings of [solver]; phases override some
+  MpmAnalysis analysis = MpmAnalysis::explicit_dynamic;
+  mpm::SolverSettings solver;  ///< the settings of [solver]; phases override some
+  /// The quasi-static analysis's own settings; its geometry, shape function, gravity and threads
+  /// are those of `solver`.
+  mpm::quasi_static::Settings quasi_static;
+  /// Quasi-static: the largest body travel of a load step [m]; 0: a tenth of the smallest cell.
+  double displacement_step = 0.0;
   std::vector<std::string> material_names;  ///< index -> name (the regions' materials)
   std::vector<ModelPtr> models;             ///< index -> model
   std::vector<MpmRegion> regions;

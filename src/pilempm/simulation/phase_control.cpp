@@ -15,11 +15,16 @@ double mpm_full_body_factor(mpm::Geometry geometry) {
   return geometry == mpm::Geometry::axisymmetric ? 2.0 * kPi : 1.0;
 }
 
-MpmPhaseControl::MpmPhaseControl(const MpmCase& c, std::size_t index, mpm::Solver& solver)
-    : case_(c), phase_(c.phases.at(index)), solver_(solver), start_time_(solver.time()) {
-  for (int b = 0; b < solver.rigid_body_count(); ++b) {
-    start_velocity_.push_back(solver.rigid_body(b).velocity());
-    start_displacement_.push_back(solver.rigid_body(b).displacement());
+MpmPhaseControl::MpmPhaseControl(const MpmCase& c, std::size_t index, mpm::MpmState& state,
+                                 bool average_forces)
+    : case_(c),
+      phase_(c.phases.at(index)),
+      state_(state),
+      start_time_(state.time()),
+      average_forces_(average_forces) {
+  for (int b = 0; b < state.rigid_body_count(); ++b) {
+    start_velocity_.push_back(state.rigid_body(b).velocity());
+    start_displacement_.push_back(state.rigid_body(b).displacement());
   }
   for (const MpmStopRule& rule : phase_.stop_rules) {
     double sense = 0.0;
@@ -42,13 +47,13 @@ double MpmPhaseControl::goal(const MpmStopRule& rule) const {
 
 void MpmPhaseControl::start(const std::vector<mpm::Vec2>& traction_forces) {
   for (const MpmMaterialChange& change : phase_.material_changes)
-    solver_.set_material(change.model, change.replacement);
-  mpm::Particles& particles = solver_.particles();
+    state_.set_material(change.model, change.replacement);
+  mpm::Particles& particles = state_.particles();
   if (!traction_forces.empty())
     for (std::size_t p = 0; p < particles.size(); ++p)
       particles.external_force[p] = phase_.traction_multiplier * traction_forces.at(p);
   if (phase_.kind == MpmPhaseKind::geostatic)
-    set_geostatic_state(case_, solver_, solver_.settings().gravity * phase_.gravity_multiplier);
+    set_geostatic_state(case_, state_, case_.solver.gravity * phase_.gravity_multiplier);
 }
 
 mpm::Vec2 MpmPhaseControl::velocity_at(std::size_t body, double time) const {
@@ -58,15 +63,23 @@ mpm::Vec2 MpmPhaseControl::velocity_at(std::size_t body, double time) const {
   return start_velocity_[body] + f * (motion.velocity - start_velocity_[body]);
 }
 
-MpmStepPlan MpmPhaseControl::plan_step(double target) {
-  const double now = solver_.time();
-  const double dt = solver_.next_time_step();
+double MpmPhaseControl::body_speed() const {
+  double speed = 0.0;
+  for (std::size_t b = 0; b < start_velocity_.size(); ++b) {
+    speed = std::max(speed, phase_.body_motion.at(b).velocity.norm());
+    if (phase_.body_motion.at(b).ramp > 0.0) speed = std::max(speed, start_velocity_[b].norm());
+  }
+  return speed;
+}
+
+MpmStepPlan MpmPhaseControl::plan_step(double target, double dt) {
+  const double now = state_.time();
   MpmStepPlan plan;
   plan.own_step = now + dt < target;
   plan.end = plan.own_step ? now + dt : target;
   auto set_velocities = [&](double length) {
     for (std::size_t b = 0; b < start_velocity_.size(); ++b)
-      solver_.rigid_body(static_cast<int>(b)).set_velocity(velocity_at(b, now + 0.5 * length));
+      state_.rigid_body(static_cast<int>(b)).set_velocity(velocity_at(b, now + 0.5 * length));
   };
   set_velocities(plan.end - now);
 
@@ -74,7 +87,7 @@ MpmStepPlan MpmPhaseControl::plan_step(double target) {
   for (std::size_t k = 0; k < phase_.stop_rules.size(); ++k) {
     const MpmStopRule& rule = phase_.stop_rules[k];
     if (sense_[k] == 0.0) continue;
-    mpm::RigidBody& body = solver_.rigid_body(phase_.stop_body);
+    mpm::RigidBody& body = state_.rigid_body(phase_.stop_body);
     const double remaining = goal(rule) - body.displacement()[rule.component];
     const double speed = body.velocity()[rule.component];
     const double length = plan.end - now;
@@ -95,17 +108,17 @@ MpmStepPlan MpmPhaseControl::plan_step(double target) {
 void MpmPhaseControl::record_step(double dt) {
   if (phase_.stop_body < 0) return;
   const mpm::Vec2 force =
-      solver_.rigid_body_force(phase_.stop_body).total * mpm_full_body_factor(case_.geometry);
+      state_.rigid_body_force(phase_.stop_body).total * mpm_full_body_factor(case_.geometry);
   // An exponential moving average with time constant τ (the force itself when τ = 0): the
   // exact solution of τ df/dt = F − f over a step with F constant.
-  const double tau = phase_.stop_force_averaging;
+  const double tau = average_forces_ ? phase_.stop_force_averaging : 0.0;
   const double weight = has_mean_force_ && tau > 0.0 ? std::exp(-dt / tau) : 0.0;
   mean_force_ = weight * mean_force_ + (1.0 - weight) * force;
   has_mean_force_ = true;
 }
 
 PhaseProgress MpmPhaseControl::progress() const {
-  PhaseProgress progress{std::clamp((solver_.time() - start_time_) / phase_.duration, 0.0, 1.0),
+  PhaseProgress progress{std::clamp((state_.time() - start_time_) / phase_.duration, 0.0, 1.0),
                          "duration_s"};
   for (std::size_t k = 0; k < phase_.stop_rules.size(); ++k) {
     if (sense_[k] == 0.0) continue;
@@ -114,18 +127,16 @@ PhaseProgress MpmPhaseControl::progress() const {
         start_displacement_[static_cast<std::size_t>(phase_.stop_body)][rule.component];
     const double to = goal(rule);
     if (to == from) continue;
-    const double now = solver_.rigid_body(phase_.stop_body).displacement()[rule.component];
+    const double now = state_.rigid_body(phase_.stop_body).displacement()[rule.component];
     const double fraction = std::clamp((now - from) / (to - from), 0.0, 1.0);
     if (fraction > progress.fraction) progress = {fraction, rule.key};
   }
   return progress;
 }
 
-std::string MpmPhaseControl::stop_reason(int landing_rule) const {
-  if (phase_.stop_body < 0) return "";
-  const MpmBody& b = case_.bodies.at(static_cast<std::size_t>(phase_.stop_body));
-  const mpm::RigidBody& body = solver_.rigid_body(phase_.stop_body);
-  const char* axis[2] = {"x", "y"};
+int MpmPhaseControl::met_rule(int landing_rule) const {
+  if (phase_.stop_body < 0) return -1;
+  const mpm::RigidBody& body = state_.rigid_body(phase_.stop_body);
   for (std::size_t k = 0; k < phase_.stop_rules.size(); ++k) {
     const MpmStopRule& rule = phase_.stop_rules[k];
     const int i = rule.component;
@@ -135,19 +146,29 @@ std::string MpmPhaseControl::stop_reason(int landing_rule) const {
       const double tolerance =
           1e-9 * std::abs(g - start_displacement_[static_cast<std::size_t>(phase_.stop_body)][i]);
       if (static_cast<int>(k) == landing_rule || (d - g) * sense_[k] >= -tolerance)
-        return fmt::format("{} = {:.6g}: {} displacement {} = {:.6g} m", rule.key, rule.value,
-                           b.name, axis[i], d);
+        return static_cast<int>(k);
       continue;
     }
     if (!has_mean_force_) continue;  // no step of this phase yet
     const double force = mean_force_[i];
-    const bool met =
-        rule.quantity == MpmStopQuantity::force_below ? force < rule.value : force > rule.value;
-    if (met)
-      return fmt::format("{} = {:.6g}: {} force {} = {:.6g} N", rule.key, rule.value, b.name,
-                         axis[i], force);
+    if (rule.quantity == MpmStopQuantity::force_below ? force < rule.value : force > rule.value)
+      return static_cast<int>(k);
   }
-  return "";
+  return -1;
+}
+
+std::string MpmPhaseControl::stop_reason(int landing_rule) const {
+  const int k = met_rule(landing_rule);
+  if (k < 0) return "";
+  const MpmStopRule& rule = phase_.stop_rules[static_cast<std::size_t>(k)];
+  const MpmBody& b = case_.bodies.at(static_cast<std::size_t>(phase_.stop_body));
+  const char* axis[2] = {"x", "y"};
+  const int i = rule.component;
+  if (sense_[static_cast<std::size_t>(k)] != 0.0)
+    return fmt::format("{} = {:.6g}: {} displacement {} = {:.6g} m", rule.key, rule.value, b.name,
+                       axis[i], state_.rigid_body(phase_.stop_body).displacement()[i]);
+  return fmt::format("{} = {:.6g}: {} force {} = {:.6g} N", rule.key, rule.value, b.name, axis[i],
+                     mean_force_[i]);
 }
 
 }  // namespace pilempm::simulation

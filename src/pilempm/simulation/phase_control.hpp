@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "pilempm/mpm/solver.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/simulation/mpm_case.hpp"
 #include "pilempm/simulation/scheme.hpp"
 
@@ -18,16 +18,20 @@ double mpm_full_body_factor(mpm::Geometry geometry);
 
 /// The next step of a phase as planned by MpmPhaseControl::plan_step.
 struct MpmStepPlan {
-  bool own_step = true;   ///< take the solver's own step (step()); else run_until(end)
+  bool own_step = true;   ///< a step of the scheme's own length; else shortened to end there
   double end = 0.0;       ///< the time the step ends at [s]
   int landing_rule = -1;  ///< the displacement rule it was shortened to meet exactly (-1: none)
 };
 
 class MpmPhaseControl {
  public:
-  /// Phase `index` of the case, starting at the solver's current time and state (after a
-  /// checkpoint has been read, on a restart). The solver's settings are set by the caller.
-  MpmPhaseControl(const MpmCase& mpm_case, std::size_t index, mpm::Solver& solver);
+  /// Phase `index` of the case, starting at the state's current time (after a checkpoint has
+  /// been read, on a restart), whichever analysis advances it. The analysis's settings are set
+  /// by the caller.
+  /// `average_forces`: force rules compare the moving average of MpmPhase::stop_force_averaging
+  /// (explicit); false: the force at the end of each step (quasi-static, in equilibrium).
+  MpmPhaseControl(const MpmCase& mpm_case, std::size_t index, mpm::MpmState& state,
+                  bool average_forces = true);
 
   const MpmPhase& phase() const { return phase_; }
   double start_time() const { return start_time_; }
@@ -39,13 +43,20 @@ class MpmPhaseControl {
   /// the geostatic state.
   void start(const std::vector<mpm::Vec2>& traction_forces);
 
-  /// Plans the next step towards `target` (<= end_time()) and sets the bodies' velocities for it.
-  MpmStepPlan plan_step(double target);
+  /// Plans the next step towards `target` (<= end_time()), `step` [s] long unless shortened to
+  /// end at the target or on a displacement goal, and sets the bodies' velocities for it (their
+  /// mean over the step, so that velocity times length is the step's displacement).
+  MpmStepPlan plan_step(double target, double step);
+  /// The largest speed of a body in the phase [m/s] (0: none moves): of its velocity, or of
+  /// its velocity at the phase start where a ramp leads from it.
+  double body_speed() const;
 
   /// After a step (or at the start): whether a stop rule is met, and a description of it
   /// ("stop_displacement_y_m = -0.05: pile displacement y = -0.05 m"); "" when none.
   /// `landing_rule`: the plan's, when the step was taken.
   std::string stop_reason(int landing_rule = -1) const;
+  /// The stop rule met after a step (-1: none), as stop_reason() finds it.
+  int met_rule(int landing_rule = -1) const;
 
   /// How far the phase is: the largest of the fraction of its duration and, for each
   /// displacement stop rule, the fraction of the way from the phase start to its goal.
@@ -61,13 +72,14 @@ class MpmPhaseControl {
 
   const MpmCase& case_;
   const MpmPhase& phase_;
-  mpm::Solver& solver_;
+  mpm::MpmState& state_;
   double start_time_ = 0.0;
   std::vector<mpm::Vec2> start_velocity_;      // by body
   std::vector<mpm::Vec2> start_displacement_;  // by body
   std::vector<double> sense_;                  // by stop rule: +1 / -1 towards a displacement
   mpm::Vec2 mean_force_ = mpm::Vec2::Zero();   // of the stop body, full body [N]
   bool has_mean_force_ = false;
+  bool average_forces_ = true;
 };
 
 }  // namespace pilempm::simulation

@@ -26,9 +26,11 @@ std::string ProgressObserver::line(const Scheme& scheme, const MpmPhase& phase) 
       progress.fraction > 0.0
           ? fmt::format("{:.0f} s", wall * (1.0 - progress.fraction) / progress.fraction)
           : std::string("?");
-  return fmt::format("mpm: phase {}: {:.1f} % of {}, t = {:.6g} s, {} steps, wall {:.1f} s, ETA {}",
-                     phase.name, 100.0 * progress.fraction, progress.goal, scheme.time(),
-                     scheme.steps(), wall_seconds(), eta);
+  const std::string report = scheme.step_report();
+  return fmt::format(
+      "mpm: phase {}: {:.1f} % of {}, t = {:.6g} s, {} steps{}, wall {:.1f} s, ETA {}", phase.name,
+      100.0 * progress.fraction, progress.goal, scheme.time(), scheme.steps(),
+      report.empty() ? std::string() : " (last: " + report + ")", wall_seconds(), eta);
 }
 
 void ProgressObserver::clear_line() {

@@ -4,12 +4,13 @@
 // changes and tractions; the scheme then advances towards the next point the loop asks for (an
 // output or record time, or the phase end), never beyond it, and says whether it got there or
 // a stop rule ended the phase. The explicit dynamic analysis (ExplicitScheme) advances in
-// time steps; a quasi-static one would advance in load steps of prescribed body displacement
-// in pseudo-time, behind the same interface.
+// time steps; the quasi-static one (QuasiStaticScheme) in load steps of prescribed body
+// displacement in pseudo-time, behind the same interface. Both show their state as an
+// mpm::MpmState.
 #include <cstddef>
 #include <string>
 
-#include "pilempm/mpm/solver.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/simulation/mpm_case.hpp"
 
 namespace pilempm::simulation {
@@ -48,13 +49,22 @@ class Scheme {
   /// The (pseudo-)time [s] and the steps taken since t = 0.
   virtual double time() const = 0;
   virtual long steps() const = 0;
+  /// The length of the next step [s]: the explicit time step, or the pseudo-time of a load step.
+  virtual double step_length() = 0;
+  /// Whether the analysis has inertia: its forces of one step carry the noise of the dynamics
+  /// and records show their means over time (explicit); without it (quasi-static) every load
+  /// step ends in equilibrium and records show the forces at their time.
+  virtual bool inertial() const = 0;
+  /// A line on the last step for the progress report ("" when there is nothing to say), e.g.
+  /// the Newton iterations and cuts of the last load step.
+  virtual std::string step_report() const { return ""; }
 
   /// The state every scheme shares, for output, records and checkpoints: the grid, the
   /// particles and their models, the rigid bodies with their contact forces per surface part,
   /// the boundary reaction, the energies and the run state.
-  virtual const mpm::Solver& state() const = 0;
+  virtual const mpm::MpmState& state() const = 0;
   /// The same, to be overwritten from a checkpoint on a restart (before the first phase).
-  virtual mpm::Solver& state() = 0;
+  virtual mpm::MpmState& state() = 0;
 };
 
 }  // namespace pilempm::simulation

@@ -70,7 +70,7 @@ std::string pile_csv(const std::vector<PileRow>& rows, double D) {
 }
 
 // The sand's state as CSV (coordinates from the axis and below the surface).
-std::string fields_csv(const mpm::Solver& solver, double surface) {
+std::string fields_csv(const mpm::MpmState& solver, double surface) {
   const std::vector<double> igs_size = mpm_igs_sizes(solver);
   const mpm::Particles& particles = solver.particles();
   std::string text =
@@ -100,7 +100,7 @@ class FieldWriter final : public RunObserver {
       : s_(s), out_dir_(out_dir), progress_(progress), summary_(summary) {}
 
   void phase_end(const Scheme& scheme, const MpmPhase& phase) override {
-    const mpm::Solver& solver = scheme.state();
+    const mpm::MpmState& solver = scheme.state();
     if (phase.role == MpmPhaseRole::initial_stress) {
       reference_position_ = solver.particles().position;
       if (progress_ != nullptr)

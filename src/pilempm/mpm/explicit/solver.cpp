@@ -143,6 +143,13 @@ void Solver::set_material(int index, ModelPtr model) {
   wave_speed_step_ = -1;
 }
 
+double Solver::vertical_momentum() const {
+  double momentum = 0.0;
+  for (std::size_t p = 0; p < particles_.size(); ++p)
+    momentum += particles_.mass[p] * particles_.velocity[p].y();
+  return momentum * settings_.mass_scaling;
+}
+
 SolverRunState Solver::run_state() const {
   SolverRunState state;
   state.time = time_;

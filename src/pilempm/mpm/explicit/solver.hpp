@@ -32,6 +32,7 @@
 #include "pilempm/mpm/explicit/scatter.hpp"
 #include "pilempm/mpm/explicit/thread_tally.hpp"
 #include "pilempm/mpm/grid.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/mpm/particles.hpp"
 #include "pilempm/mpm/rigid_body.hpp"
 #include "pilempm/mpm/shape_functions.hpp"
@@ -96,45 +97,7 @@ struct SolverSettings {
   void validate() const;
 };
 
-/// Energy account of the run [J] (per unit thickness in plane strain, per radian in
-/// axisymmetry). kinetic + internal + damping + absorbed - external_work - contact_work is
-/// conserved (up to the time discretisation and the frictional slip at contacts).
-struct Energies {
-  /// ½ Σ m v² (inertial mass) at the end of the last step (at construction: initial velocities).
-  /// The velocities belong to mid-step (x_n+1 = x_n + Δt v_n+1), so kinetic + internal at one
-  /// step oscillates by about ωΔt/2 around the conserved total in a vibration.
-  double kinetic = 0.0;
-  double internal = 0.0;       ///< strain work Σ V σ:Δε, accumulated
-  double external_work = 0.0;  ///< work of gravity and particle loads, accumulated
-  double damping = 0.0;        ///< dissipated by local damping, accumulated
-  /// Work of the rigid bodies on the soil, -Σ F_body . v_body Δt, accumulated. The kinetic energy
-  /// lost when soil nodes are brought to the body's velocity (impacts) and by frictional slip is
-  /// not in the account, so the balance closes up to these losses.
-  double contact_work = 0.0;
-  double absorbed = 0.0;  ///< dissipated by absorbing boundaries, accumulated
-};
-
-/// Contact force on a rigid body over the last step [N] (per unit thickness in plane strain, per
-/// radian in axisymmetry): minus the soil's nodal momentum corrections over Δt, in total and per
-/// surface part (indexed as the body's part_names()). A pile pushed into soil gets total.y() > 0.
-struct RigidBodyForce {
-  Vec2 total = Vec2::Zero();
-  std::vector<Vec2> parts;
-};
-
-/// What a step carries to the next besides particles, rigid bodies and settings: a checkpoint
-/// stores it, and a restart restores it, so that the run continues bitwise.
-struct SolverRunState {
-  double time = 0.0;
-  long steps = 0;
-  Energies energies;
-  double max_wave_speed = 0.0;      ///< at the last evaluation of the wave speeds
-  long wave_speed_step = -1;        ///< the step of that evaluation (-1: none yet)
-  double max_particle_speed = 0.0;  ///< max |v_p| after the last step
-  std::vector<RigidBodyForce> rigid_body_forces;
-};
-
-class Solver {
+class Solver final : public MpmState {
  public:
   /// Takes the grid (with its boundary conditions), the particles and the materials the
   /// particles refer to by index. Throws InvalidValue for bad settings, a missing material, a
@@ -155,54 +118,62 @@ class Solver {
   /// scaling, ρ = m / V current).
   double next_time_step();
 
-  double time() const { return time_; }
-  long steps() const { return steps_; }
-  const Energies& energies() const { return energies_; }
+  const char* analysis() const override { return "explicit"; }
+  Geometry geometry() const override { return settings_.geometry; }
+  double time() const override { return time_; }
+  long steps() const override { return steps_; }
+  /// N g [m/s^2].
+  double gravity() const override { return settings_.gravity * settings_.gravity_multiplier; }
+  const Energies& energies() const override { return energies_; }
   const SolverSettings& settings() const { return settings_; }
   /// Changes settings between steps (a new phase), validated.
   void set_settings(const SolverSettings& settings);
-  int threads() const { return threads_; }
+  int threads() const override { return threads_; }
 
-  const Grid& grid() const { return grid_; }
+  const Grid& grid() const override { return grid_; }
   Grid& grid() { return grid_; }
-  const Particles& particles() const { return particles_; }
+  const Particles& particles() const override { return particles_; }
   /// For loads and inspection; keep the number of particles unchanged.
-  Particles& particles() { return particles_; }
-  const std::vector<ModelPtr>& materials() const { return materials_; }
+  Particles& particles() override { return particles_; }
+  const std::vector<ModelPtr>& materials() const override { return materials_; }
   /// Replaces material `index` (a new parameter set for the next phase); states are kept.
-  void set_material(int index, ModelPtr model);
+  void set_material(int index, ModelPtr model) override;
 
   /// Adds a rigid body in contact with the soil (Coulomb friction at the grid nodes, see
   /// apply_contact) and returns its index. Throws InvalidValue for a pile in plane strain or a
   /// polygon in axisymmetry.
   int add_rigid_body(RigidBody body);
-  int rigid_body_count() const { return static_cast<int>(rigid_bodies_.size()); }
+  int rigid_body_count() const override { return static_cast<int>(rigid_bodies_.size()); }
   /// For changing a body's velocity between steps; the solver moves it by v Δt each step.
-  RigidBody& rigid_body(int index) { return rigid_bodies_.at(static_cast<std::size_t>(index)); }
-  const RigidBody& rigid_body(int index) const {
+  RigidBody& rigid_body(int index) override {
+    return rigid_bodies_.at(static_cast<std::size_t>(index));
+  }
+  const RigidBody& rigid_body(int index) const override {
     return rigid_bodies_.at(static_cast<std::size_t>(index));
   }
   /// The contact force on body `index` in the last step (zero before the first).
-  const RigidBodyForce& rigid_body_force(int index) const {
+  const RigidBodyForce& rigid_body_force(int index) const override {
     return rigid_body_forces_.at(static_cast<std::size_t>(index));
   }
 
   /// The force the grid's boundary constraints (roller, fixed, the axis) exerted on the soil in
   /// the last step: Σ over constrained node components of m Δv / Δt − f (the force that holds
   /// them), per radian in axisymmetry [N]. Dashpots and contacts are not in it.
-  const Vec2& boundary_reaction() const { return boundary_reaction_; }
+  const Vec2& boundary_reaction() const override { return boundary_reaction_; }
   /// The local damping's force on the soil in the last step: Σ over free node components of
   /// −α |f| sign(v), less its share at contact nodes (taken out there), per radian in axisymmetry
   /// [N]. With the boundary reaction, gravity, the contacts and the soil's momentum it closes the
   /// soil's momentum balance; zero without damping.
-  const Vec2& damping_force() const { return damping_force_; }
+  Vec2 damping_force() const override { return damping_force_; }
+  /// Σ m v_y with the inertial (scaled) mass [kg m/s].
+  double vertical_momentum() const override;
 
   /// The state a checkpoint needs besides particles, bodies and settings.
-  SolverRunState run_state() const;
+  SolverRunState run_state() const override;
   /// Restores a checkpoint's run state (after the particles and the bodies; the settings of the
   /// phase are to be set first, since set_settings() forgets the wave speeds). Throws
   /// InvalidValue when the rigid-body forces do not fit the bodies.
-  void restore_run_state(const SolverRunState& state);
+  void restore_run_state(const SolverRunState& state) override;
 
   /// Particle data plus the solver's per-particle scratch [bytes] (with volumetric smoothing
   /// on, its scratch too).

@@ -33,6 +33,7 @@
 
 #include "pilempm/constitutive/constitutive_model.hpp"
 #include "pilempm/mpm/grid.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/mpm/particles.hpp"
 #include "pilempm/mpm/quasi_static/linear_solver.hpp"
 #include "pilempm/mpm/quasi_static/surface_contact.hpp"
@@ -95,6 +96,8 @@ struct Settings {
 
 /// The load of one step: what it reaches at its end.
 struct LoadStep {
+  /// The pseudo-time the step covers [s] (the parameter of the load path, added to time()).
+  double duration = 1.0;
   /// Displacement of each rigid body over the step [m] (empty: none move).
   std::vector<Vec2> body_displacement;
   double gravity_multiplier = 1.0;   ///< N at the end of the step
@@ -130,10 +133,7 @@ struct LoadStepResult {
 
 /// Contact force on a rigid body [N] (per unit thickness, per radian in axisymmetry), in total
 /// and per surface part; a pile pushed into soil gets total.y() > 0.
-struct BodyForce {
-  Vec2 total = Vec2::Zero();
-  std::vector<Vec2> parts;
-};
+using BodyForce = RigidBodyForce;
 
 /// Work account [J], accumulated over the accepted steps (trapezoidal rule).
 struct Work {
@@ -142,7 +142,7 @@ struct Work {
   double contact = 0.0;   ///< of the rigid bodies on the soil, Σ F_body · Δd_body
 };
 
-class QuasiStaticSolver {
+class QuasiStaticSolver final : public MpmState {
  public:
   /// Throws InvalidValue for bad settings, a missing material, a particle outside the grid or
   /// without volume, or r <= 0 in axisymmetry. The gravity and traction multipliers start at 0.
@@ -156,28 +156,51 @@ class QuasiStaticSolver {
   /// Adds a rigid body; returns its index. Throws InvalidValue for a pile in plane strain or a
   /// polygon in axisymmetry.
   int add_rigid_body(RigidBody body);
-  int rigid_body_count() const { return static_cast<int>(bodies_.size()); }
-  const RigidBody& rigid_body(int index) const { return bodies_.at(std::size_t(index)); }
-  RigidBody& rigid_body(int index) { return bodies_.at(std::size_t(index)); }
+  int rigid_body_count() const override { return static_cast<int>(bodies_.size()); }
+  const RigidBody& rigid_body(int index) const override { return bodies_.at(std::size_t(index)); }
+  RigidBody& rigid_body(int index) override { return bodies_.at(std::size_t(index)); }
   /// The contact force on body `index` at the end of the last step.
   const BodyForce& body_force(int index) const { return body_forces_.at(std::size_t(index)); }
+  const RigidBodyForce& rigid_body_force(int index) const override { return body_force(index); }
   /// The force the grid's constraints exert on the soil at the end of the last step [N].
-  const Vec2& boundary_reaction() const { return boundary_reaction_; }
+  const Vec2& boundary_reaction() const override { return boundary_reaction_; }
   /// The largest penetration of a contact point into a body at the end of the last step [m].
   double max_penetration() const { return max_penetration_; }
 
   double gravity_multiplier() const { return gravity_multiplier_; }
   double traction_multiplier() const { return traction_multiplier_; }
-  /// The sum of the accepted steps' fractions: the load path's parameter.
-  double pseudo_time() const { return pseudo_time_; }
+  /// The sum of the accepted steps' durations: the load path's parameter [s].
+  double pseudo_time() const { return time_; }
   const Work& work() const { return work_; }
 
-  const Grid& grid() const { return grid_; }
-  const Particles& particles() const { return particles_; }
-  Particles& particles() { return particles_; }
+  const char* analysis() const override { return "quasi-static"; }
+  Geometry geometry() const override { return settings_.geometry; }
+  double time() const override { return time_; }
+  /// Load steps accepted since t = 0.
+  long steps() const override { return steps_; }
+  /// N g at the end of the last step [m/s^2].
+  double gravity() const override { return settings_.gravity * gravity_multiplier_; }
+  int threads() const override { return threads_; }
+  /// The work account as energies: no kinetic energy, no damping; contact_work is the work of
+  /// the bodies on the soil.
+  const Energies& energies() const override { return energies_; }
+  const Grid& grid() const override { return grid_; }
+  const Particles& particles() const override { return particles_; }
+  Particles& particles() override { return particles_; }
+  const std::vector<ModelPtr>& materials() const override { return materials_; }
   const Settings& settings() const { return settings_; }
+  /// Changes the settings between load steps (a new phase), validated; the geometry, the shape
+  /// function and the linear solver stay those of the construction.
+  void set_settings(const Settings& settings);
   /// Replaces material `index`; states are kept.
-  void set_material(int index, ModelPtr model);
+  void set_material(int index, ModelPtr model) override;
+
+  /// The time, steps, energies, body forces and, as scheme arrays, the contact points with
+  /// their friction history, the last nodal displacements and the load multipliers.
+  SolverRunState run_state() const override;
+  /// Restores a checkpoint's run state (after the particles and the bodies). Throws InvalidValue
+  /// when the arrays do not fit the particles, the grid or the bodies.
+  void restore_run_state(const SolverRunState& state) override;
   /// Nodal displacement of the last accepted step (x, y per node; zero where inactive) [m].
   const std::vector<Vec2>& last_node_displacement() const { return node_displacement_; }
   /// The Newton matrix of the last iteration (free components of the active nodes), for
@@ -215,8 +238,10 @@ class QuasiStaticSolver {
   double last_body_step_ = 0.0;  // largest body displacement of the last increment [m]
   Vec2 boundary_reaction_ = Vec2::Zero();
   double max_penetration_ = 0.0;
-  double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, pseudo_time_ = 0.0;
+  double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, time_ = 0.0;
+  long steps_ = 0;
   Work work_;
+  Energies energies_;
   std::vector<Vec2> node_displacement_;
   LinearSolver linear_solver_;
   SparseMatrix last_matrix_;

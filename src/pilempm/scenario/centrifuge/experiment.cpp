@@ -41,7 +41,7 @@ double max_window_ratio(const std::vector<PileRow>& rows, double window, double 
 
 }  // namespace
 
-void initial_stress_check(const CentrifugeScenario& s, const mpm::Solver& solver,
+void initial_stress_check(const CentrifugeScenario& s, const mpm::MpmState& solver,
                           CentrifugeSummary& summary) {
   const double unit = s.sand_density() * s.g_level * s.gravity;  // [Pa/m]
   const double H = s.sand_height();
@@ -68,7 +68,7 @@ CentrifugeChecks::CentrifugeChecks(const CentrifugeScenario& s, CentrifugeSummar
 }
 
 void CentrifugeChecks::phase_end(const simulation::Scheme& scheme, const MpmPhase& phase) {
-  const mpm::Solver& solver = scheme.state();
+  const mpm::MpmState& solver = scheme.state();
   // No particle passes through the pile, none crosses the axis.
   std::size_t inside = 0;
   double min_radius = std::numeric_limits<double>::infinity();

@@ -11,7 +11,7 @@ using simulation::PilePart;
 
 namespace {
 
-double pile_y(const mpm::Solver& solver) {
+double pile_y(const mpm::MpmState& solver) {
   return solver.rigid_body(0).displacement().y();
 }
 
@@ -21,11 +21,15 @@ PileRecorder::PileRecorder(const CentrifugeScenario& s, double factor)
     : s_(s), factor_(factor), interval_(s.record_interval_D * s.pile_diameter) {}
 
 void PileRecorder::after_step(const simulation::Scheme& scheme, const MpmPhase& phase, double dt) {
-  const mpm::Solver& solver = scheme.state();
-  means_.add_step(solver, dt);
-  reaction_impulse_ += dt * solver.boundary_reaction();
-  damping_impulse_ += dt * solver.damping_force();
-  elapsed_ += dt;
+  const mpm::MpmState& solver = scheme.state();
+  // With inertia a row shows the means since the last row; without, the values at its time.
+  const double weight = scheme.inertial() ? dt : 0.0;
+  if (scheme.inertial()) means_.add_step(solver, dt);
+  reaction_impulse_ += weight * solver.boundary_reaction();
+  damping_impulse_ += weight * solver.damping_force();
+  elapsed_ += weight;
+  last_reaction_ = solver.boundary_reaction();
+  stepped_ = true;
   // Installation: a row per record interval; the short relaxation and load test: ten.
   const double interval = phase.role == MpmPhaseRole::installation ? interval_ : 0.1 * interval_;
   if (phase.role != MpmPhaseRole::initial_stress &&
@@ -34,11 +38,11 @@ void PileRecorder::after_step(const simulation::Scheme& scheme, const MpmPhase& 
 }
 
 void PileRecorder::phase_end(const simulation::Scheme& scheme, const MpmPhase& phase) {
-  if (elapsed_ > 0.0) add_row(scheme.state(), phase);
+  if (stepped_) add_row(scheme.state(), phase);
   phase_start_y_ = pile_y(scheme.state());
 }
 
-void PileRecorder::add_row(const mpm::Solver& solver, const MpmPhase& phase) {
+void PileRecorder::add_row(const mpm::MpmState& solver, const MpmPhase& phase) {
   const std::vector<mpm::RigidBodyForce> forces = means_.take(solver);
   const mpm::RigidBodyForce& f = forces.at(0);
   const auto tip = static_cast<std::size_t>(PilePart::tip);
@@ -54,7 +58,8 @@ void PileRecorder::add_row(const mpm::Solver& solver, const MpmPhase& phase) {
   row.head = factor_ * f.total.y();
   row.tip = f.parts.size() > tip ? factor_ * f.parts[tip].y() : 0.0;
   row.shaft = f.parts.size() > shaft ? factor_ * f.parts[shaft].y() : 0.0;
-  row.base_reaction = elapsed_ > 0.0 ? factor_ * reaction_impulse_.y() / elapsed_ : 0.0;
+  row.base_reaction =
+      factor_ * (elapsed_ > 0.0 ? reaction_impulse_.y() / elapsed_ : last_reaction_.y());
   row.damping = elapsed_ > 0.0 ? factor_ * damping_impulse_.y() / elapsed_ : 0.0;
   if (!soil_weight_) {  // the particles and their masses do not change
     double mass = 0.0;
@@ -65,16 +70,13 @@ void PileRecorder::add_row(const mpm::Solver& solver, const MpmPhase& phase) {
   row.kinetic = factor_ * solver.energies().kinetic;
   row.pile_work = factor_ * solver.energies().contact_work;
   // The sand's vertical momentum with the inertial (scaled) mass; it starts at rest at t = 0.
-  const mpm::Particles& particles = solver.particles();
-  double momentum = 0.0;
-  for (std::size_t p = 0; p < particles.size(); ++p)
-    momentum += particles.mass[p] * particles.velocity[p].y();
-  momentum *= factor_ * solver.settings().mass_scaling;
+  const double momentum = factor_ * solver.vertical_momentum();
   row.momentum_rate = elapsed_ > 0.0 ? (momentum - momentum_) / elapsed_ : 0.0;
   momentum_ = momentum;
   rows_.push_back(row);
   reaction_impulse_ = damping_impulse_ = mpm::Vec2::Zero();
   elapsed_ = 0.0;
+  stepped_ = false;
   last_row_y_ = y;
 }
 

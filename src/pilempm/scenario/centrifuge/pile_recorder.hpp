@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "pilempm/mpm/solver.hpp"
+#include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/scenario/centrifuge/centrifuge_scenario.hpp"
 #include "pilempm/simulation/body_force_means.hpp"
 #include "pilempm/simulation/run_loop.hpp"
@@ -49,7 +49,7 @@ class PileRecorder final : public simulation::RunObserver {
   const std::vector<PileRow>& rows() const { return rows_; }
 
  private:
-  void add_row(const mpm::Solver& solver, const simulation::MpmPhase& phase);
+  void add_row(const mpm::MpmState& solver, const simulation::MpmPhase& phase);
 
   const CentrifugeScenario& s_;
   double factor_;
@@ -58,6 +58,8 @@ class PileRecorder final : public simulation::RunObserver {
   mpm::Vec2 reaction_impulse_ = mpm::Vec2::Zero();
   mpm::Vec2 damping_impulse_ = mpm::Vec2::Zero();
   double elapsed_ = 0.0;
+  bool stepped_ = false;                         // a step since the last row
+  mpm::Vec2 last_reaction_ = mpm::Vec2::Zero();  // of the last step [N]
   double last_row_y_ = 0.0;
   double phase_start_y_ = 0.0;
   double momentum_ = 0.0;              // [N s], at the last row

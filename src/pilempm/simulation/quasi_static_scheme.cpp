@@ -1,0 +1,155 @@
+// The quasi-static analysis as a Scheme: see quasi_static_scheme.hpp.
+#include "pilempm/simulation/quasi_static_scheme.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "pilempm/core/error.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
+#include "pilempm/simulation/tractions.hpp"
+
+namespace pilempm::simulation {
+
+QuasiStaticScheme::QuasiStaticScheme(const MpmCase& mpm_case)
+    : case_(mpm_case), solver_(make_quasi_static_solver(mpm_case)) {
+  if (!mpm_case.tractions.empty())
+    traction_forces_ = mpm_traction_forces(mpm_case, solver_.particles());
+}
+
+double QuasiStaticScheme::displacement_step() const {
+  const double phase_step = case_.phases.at(phase_).displacement_step;
+  if (phase_step > 0.0) return phase_step;
+  if (case_.displacement_step > 0.0) return case_.displacement_step;
+  double cell = std::numeric_limits<double>::infinity();
+  for (const std::vector<double>* nodes : {&case_.x_nodes, &case_.y_nodes})
+    for (std::size_t i = 1; i < nodes->size(); ++i)
+      cell = std::min(cell, (*nodes)[i] - (*nodes)[i - 1]);
+  return 0.1 * cell;
+}
+
+std::string QuasiStaticScheme::begin_phase(std::size_t index) {
+  phase_ = index;
+  solver_.set_settings(quasi_static_settings(case_, case_.phases.at(index)));
+  control_.reset();
+  control_.emplace(case_, index, solver_, /*average_forces=*/false);
+  control_->start(traction_forces_);
+  return control_->stop_reason();
+}
+
+double QuasiStaticScheme::step_length() {
+  const double end = phase_end_time();
+  const double speed = control_ ? control_->body_speed() : 0.0;
+  // A phase in which nothing moves needs no more steps than its output times.
+  return speed > 0.0 ? displacement_step() / speed : std::max(end - solver_.time(), 0.0);
+}
+
+namespace {
+
+// The state a load step starts from, to go back to when a force rule is bisected.
+struct SavedState {
+  mpm::Particles particles;
+  std::vector<mpm::RigidBody> bodies;
+  mpm::SolverRunState run;
+};
+
+SavedState save(const mpm::MpmState& state) {
+  SavedState saved{state.particles(), {}, state.run_state()};
+  for (int b = 0; b < state.rigid_body_count(); ++b) saved.bodies.push_back(state.rigid_body(b));
+  return saved;
+}
+
+void restore(mpm::MpmState& state, const SavedState& saved) {
+  state.restore_run_state(saved.run);
+  for (int b = 0; b < state.rigid_body_count(); ++b)
+    state.rigid_body(b) = saved.bodies[static_cast<std::size_t>(b)];
+  state.particles() = saved.particles;
+}
+
+bool is_force_rule(const MpmStopRule& rule) {
+  return rule.quantity == MpmStopQuantity::force_below ||
+         rule.quantity == MpmStopQuantity::force_above;
+}
+
+// Halvings of a load step in which a force rule is first met: the crossing is found to
+// 2^-12 = 2.4e-4 of the step.
+constexpr int kForceBisections = 12;
+
+}  // namespace
+
+void QuasiStaticScheme::solve_load_step(double duration) {
+  const MpmPhase& phase = case_.phases.at(phase_);
+  mpm::quasi_static::LoadStep load;
+  load.duration = duration;
+  load.gravity_multiplier = phase.gravity_multiplier;
+  load.traction_multiplier = traction_forces_.empty() ? 0.0 : 1.0;  // the phase's loads are set
+  for (int b = 0; b < solver_.rigid_body_count(); ++b)
+    load.body_displacement.push_back(solver_.rigid_body(b).velocity() * duration);
+  last_step_ = solver_.solve_step(load);
+  total_iterations_ += last_step_.iterations;
+  total_cuts_ += last_step_.cuts;
+  most_iterations_ = std::max(most_iterations_, last_step_.iterations);
+  if (!last_step_.converged)
+    throw Error(fmt::format(
+        "quasi-static load step {} (from t = {:.6g} s to {:.6g} s): {}; the state is that of the "
+        "last converged step. A case driven by inertia needs [solver] analysis = \"explicit\"; "
+        "else try a smaller displacement_step_m or more max_cuts",
+        solver_.steps() + 1, solver_.time(), solver_.time() + duration, last_step_.message));
+  max_penetration_ = std::max(max_penetration_, solver_.max_penetration());
+  control_->record_step(duration);
+}
+
+Advance QuasiStaticScheme::advance(double target) {
+  if (!control_) throw Error("QuasiStaticScheme::advance: no phase begun");
+  const MpmPhase& phase = case_.phases.at(phase_);
+  double step = step_length();
+  // A step that would end within round-off of the target ends on it (no sliver of a step after).
+  if (!(step > 0.0) || target - time() <= step * (1.0 + 1e-9)) step = target - time();
+  const MpmStepPlan plan = control_->plan_step(target, step);
+  const double duration = plan.end - solver_.time();
+  const bool force_rules =
+      std::any_of(phase.stop_rules.begin(), phase.stop_rules.end(), is_force_rule);
+  std::optional<SavedState> start;
+  if (force_rules) start = save(solver_);
+  solve_load_step(duration);
+  Advance advance;
+  advance.dt = duration;
+  advance.at_target = !plan.own_step && plan.landing_rule < 0;
+  const int rule = control_->met_rule(plan.landing_rule);
+  if (rule >= 0 && start && is_force_rule(phase.stop_rules[static_cast<std::size_t>(rule)]) &&
+      plan.landing_rule < 0) {
+    // Met within this step, not at its start (else the phase would have ended): bisect on the
+    // step's length for where the force crosses the rule's value.
+    double met = 1.0, not_met = 0.0;
+    for (int k = 0; k < kForceBisections; ++k) {
+      const double middle = 0.5 * (met + not_met);
+      restore(solver_, *start);
+      solve_load_step(middle * duration);
+      (control_->met_rule() >= 0 ? met : not_met) = middle;
+    }
+    restore(solver_, *start);
+    solve_load_step(met * duration);
+    advance.dt = met * duration;
+    advance.at_target = false;
+  }
+  advance.stop_reason = control_->stop_reason(plan.landing_rule);
+  return advance;
+}
+
+std::string QuasiStaticScheme::step_report() const {
+  return fmt::format("{} it, {} cuts, penetration {:.2g} m", last_step_.iterations, last_step_.cuts,
+                     solver_.max_penetration());
+}
+
+PhaseProgress QuasiStaticScheme::phase_progress() const {
+  return control_ ? control_->progress() : PhaseProgress{};
+}
+
+double QuasiStaticScheme::phase_end_time() const {
+  return control_ ? control_->end_time() : solver_.time();
+}
+
+}  // namespace pilempm::simulation

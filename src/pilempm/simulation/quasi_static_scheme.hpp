@@ -1,0 +1,71 @@
+#pragma once
+// The quasi-static analysis as a Scheme (docs/quasi-static.md, docs/mpm-case-files.md,
+// "Analyses"): each advance is one load step of mpm::quasi_static::QuasiStaticSolver, static
+// equilibrium at its end found by Newton's method. Time is pseudo-time: a phase's body
+// velocities times pseudo-time give the body displacements, so the same case file describes the
+// same load path in both analyses. A load step moves the bodies by at most the displacement step
+// (the phase's displacement_step_m, else the case's), is shortened to land on an output time or
+// a displacement stop rule, and a phase in which no body moves goes from one output time to the
+// next in one step each (its gravity, traction and material changes applied in its first step).
+// Force stop rules compare the force at the end of each load step (no averaging: every step ends
+// in equilibrium); the load step in which one is first met is bisected, so that the phase ends
+// where the force crosses the rule's value, to 2.4e-4 of the step.
+#include <optional>
+#include <vector>
+
+#include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
+#include "pilempm/simulation/mpm_case.hpp"
+#include "pilempm/simulation/phase_control.hpp"
+#include "pilempm/simulation/scheme.hpp"
+
+namespace pilempm::simulation {
+
+class QuasiStaticScheme final : public Scheme {
+ public:
+  /// The solver of the case at time 0 (make_quasi_static_solver); `mpm_case` must outlive the
+  /// scheme. Throws InputError naming the case file when the case needs inertia (initial
+  /// velocities, absorbing boundaries).
+  explicit QuasiStaticScheme(const MpmCase& mpm_case);
+
+  std::string begin_phase(std::size_t index) override;
+  /// One load step; throws Error naming the load step, the pseudo-time and why when it does not
+  /// converge after the allowed cuts (the state is then that of the last converged step).
+  Advance advance(double target) override;
+  PhaseProgress phase_progress() const override;
+  double phase_end_time() const override;
+  double time() const override { return solver_.time(); }
+  long steps() const override { return solver_.steps(); }
+  bool inertial() const override { return false; }
+  double step_length() override;
+  std::string step_report() const override;
+  const mpm::MpmState& state() const override { return solver_; }
+  mpm::MpmState& state() override { return solver_; }
+
+  const mpm::quasi_static::QuasiStaticSolver& solver() const { return solver_; }
+  /// The last load step's Newton record.
+  const mpm::quasi_static::LoadStepResult& last_step() const { return last_step_; }
+  /// Over the run: Newton iterations, cuts, the largest iterations of one step and the largest
+  /// penetration of a contact point [m].
+  long total_iterations() const { return total_iterations_; }
+  long total_cuts() const { return total_cuts_; }
+  int most_iterations() const { return most_iterations_; }
+  double max_penetration() const { return max_penetration_; }
+
+ private:
+  double displacement_step() const;
+  // One load step of `duration` [s] of pseudo-time with the bodies' current velocities; throws
+  // Error when it does not converge.
+  void solve_load_step(double duration);
+
+  const MpmCase& case_;
+  mpm::quasi_static::QuasiStaticSolver solver_;
+  std::vector<mpm::Vec2> traction_forces_;  // at multiplier 1, by particle (empty: none)
+  std::optional<MpmPhaseControl> control_;  // of the current phase
+  std::size_t phase_ = 0;
+  mpm::quasi_static::LoadStepResult last_step_;
+  long total_iterations_ = 0, total_cuts_ = 0;
+  int most_iterations_ = 0;
+  double max_penetration_ = 0.0;
+};
+
+}  // namespace pilempm::simulation

@@ -1,0 +1,254 @@
+// MPM case files run with [solver] analysis = "quasi-static" (docs/mpm-case-files.md,
+// "Analyses"): the self-weight column against its closed form in one load step, a plate pushed
+// into a block in load steps that land exactly on the displacement goal with the soil's vertical
+// forces in balance at every step, a restart that continues bitwise, and the keys of the other
+// analysis refused with the file, line and key.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "../support/mpm_case_texts.hpp"
+#include "pilempm/core/error.hpp"
+#include "pilempm/core/tensor.hpp"
+#include "pilempm/io/mpm_case.hpp"
+#include "pilempm/io/mpm_output.hpp"
+#include "pilempm/simulation/quasi_static_scheme.hpp"
+#include "pilempm/simulation/run_loop.hpp"
+
+namespace pilempm {
+namespace {
+
+using namespace simulation;
+namespace fs = std::filesystem;
+
+// An elastic column 1 m high, stress free, under its own weight.
+const char* const kColumn = R"([geometry]
+kind = "plane-strain"
+[grid.x]
+spacing = "uniform"
+min_m = 0.0
+max_m = 0.4
+cells = 4
+[grid.y]
+spacing = "uniform"
+min_m = 0.0
+max_m = 1.2
+cells = 12
+[boundaries]
+left = "roller"
+right = "roller"
+bottom = "fixed"
+[solver]
+analysis = "quasi-static"
+threads = 1
+[[material]]
+name = "soil"
+model = "linear-elastic"
+young_modulus_MPa = 10.0
+poisson_ratio = 0.3
+[[region]]
+x_min_m = 0.0
+x_max_m = 0.4
+y_min_m = 0.0
+y_max_m = 1.0
+particles_per_cell = 2
+density_kg_per_m3 = 2000.0
+material = "soil"
+initial_stress = "zero"
+[[phase]]
+name = "self-weight"
+duration_s = 1.0
+energy_interval_s = 1.0
+)";
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path temp_dir(const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("pilempm-qs-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+// The message of the InputError that reading `text` throws ("" when none).
+std::string read_error(const std::string& text) {
+  try {
+    read_mpm_case_text(text, "case.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const std::size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  return text.replace(at, from.size(), to);
+}
+
+// The explicit restart test's plate pushed into an elastic block under a surcharge, then lifted
+// until its force falls below 1 kN with a stiffer set, run quasi-statically: pushed 4.5 mm in
+// load steps of at most 1 mm.
+std::string plate_case() {
+  return replaced(replaced(test_support::kPlateIntoBlockCase, "[solver]\nlocal_damping = 0.1\n",
+                           "[solver]\nanalysis = \"quasi-static\"\ndisplacement_step_m = 0.001\n"),
+                  "energy_interval_s = 0.005\n[phase.body.plate]",
+                  "energy_interval_s = 0.005\nstop_displacement_y_m = -0.0045\n[phase.body.plate]");
+}
+
+TEST(QuasiStaticMpmCase, SelfWeightColumnMatchesTheClosedFormInOneLoadStep) {
+  const MpmCase c = read_mpm_case_text(kColumn, "column.toml");
+  ASSERT_EQ(c.analysis, MpmAnalysis::quasi_static);
+  QuasiStaticScheme scheme(c);
+  const std::vector<mpm::Vec2> start = scheme.state().particles().position;
+  const std::vector<MpmPhaseEnd> ends = run_phases(c, scheme, 0, {});
+  ASSERT_EQ(ends.size(), 1u);
+  EXPECT_EQ(ends[0].reason, "duration_s");
+  EXPECT_EQ(scheme.steps(), 1);  // nothing moves: one load step to the phase end
+  EXPECT_DOUBLE_EQ(scheme.time(), 1.0);
+  // σ_yy = −ρ g (H − y) at every particle (y where it started: the strains are 0.2 %), within
+  // ρ g h / 4 (h the cell, the bound of the solver's own column test, docs/verification.md);
+  // the oedometric σ_xx = ν / (1 − ν) σ_yy to round-off.
+  const mpm::Particles& p = scheme.state().particles();
+  const double base = 2000.0 * 9.81 * 1.0;
+  double worst = 0.0, worst_ratio = 0.0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double expected = -2000.0 * 9.81 * (1.0 - start[i].y());
+    worst = std::max(worst, std::abs(p.state[i].stress[k22] - expected));
+    worst_ratio = std::max(worst_ratio,
+                           std::abs(p.state[i].stress[k11] / p.state[i].stress[k22] - 0.3 / 0.7));
+  }
+  EXPECT_LT(worst, 2000.0 * 9.81 * 0.1 / 4.0 * (1.0 + 1e-6));
+  EXPECT_LT(worst_ratio, 1e-6);
+  // The base carries the weight: ρ g H per metre times the width.
+  EXPECT_NEAR(scheme.state().boundary_reaction().y(), base * 0.4, 1e-5 * base * 0.4);
+}
+
+// An observer that checks the soil's vertical balance at every record: the base's reaction
+// carries the weight, the surcharge and the plate's force.
+class VerticalBalance final : public RunObserver {
+ public:
+  explicit VerticalBalance(double weight_and_surcharge) : load_(weight_and_surcharge) {}
+  void record(const Scheme& scheme, const MpmPhase& /*phase*/) override {
+    const mpm::MpmState& s = scheme.state();
+    if (s.steps() == 0) return;
+    const double expected = load_ + s.rigid_body_force(0).total.y();
+    worst_ = std::max(worst_, std::abs(s.boundary_reaction().y() - expected) / expected);
+    ++records_;
+  }
+  double worst() const { return worst_; }
+  int records() const { return records_; }
+
+ private:
+  double load_;
+  double worst_ = 0.0;
+  int records_ = 0;
+};
+
+TEST(QuasiStaticMpmCase, PlateLandsOnItsDisplacementGoalWithTheForcesInBalance) {
+  const MpmCase c = read_mpm_case_text(plate_case(), "plate.toml");
+  QuasiStaticScheme scheme(c);
+  double mass = 0.0;
+  for (double m : scheme.state().particles().mass) mass += m;
+  VerticalBalance balance(mass * 9.81 + 5.0e3 * 1.0);
+  const std::vector<MpmPhaseEnd> ends = run_phases(c, scheme, 0, {&balance});
+  ASSERT_EQ(ends.size(), 2u);
+  EXPECT_NE(ends[0].reason.find("stop_displacement_y_m"), std::string::npos) << ends[0].reason;
+  // 4.5 mm in steps of at most 1 mm, with the records every 0.5 mm as further step ends.
+  EXPECT_GE(ends[0].steps, 5);
+  EXPECT_NE(ends[1].reason.find("stop_force_y_below_N"), std::string::npos) << ends[1].reason;
+  // The lift ends where the force crosses 1 kN, found by bisecting the load step (about 4 kN
+  // per 1 mm step here, so 2.4e-4 of a step is about 1 N).
+  const double force = scheme.state().rigid_body_force(0).total.y();
+  EXPECT_LT(force, 1000.0);
+  EXPECT_GT(force, 995.0);
+  // Equilibrium at the end of every load step to the Newton tolerance (1e-6 of the forces).
+  EXPECT_GT(balance.records(), 10);
+  EXPECT_LT(balance.worst(), 1e-5);
+  EXPECT_GT(scheme.total_iterations(), 0);
+}
+
+TEST(QuasiStaticMpmCase, PlateStopsExactlyOnTheGoal) {
+  const MpmCase c = read_mpm_case_text(plate_case(), "plate.toml");
+  QuasiStaticScheme scheme(c);
+  scheme.begin_phase(0);
+  Advance advance;
+  while (advance.stop_reason.empty()) advance = scheme.advance(c.phases[0].duration);
+  EXPECT_EQ(scheme.state().rigid_body(0).displacement().y(), -0.0045);
+  EXPECT_EQ(scheme.steps(), 5);  // 1, 1, 1, 1 and the last 0.5 mm
+  EXPECT_GT(scheme.state().rigid_body_force(0).total.y(), 0.0);
+}
+
+TEST(QuasiStaticMpmCase, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
+  const MpmCase c = read_mpm_case_text(plate_case(), "plate.toml");
+  const fs::path whole = temp_dir("whole");
+  const MpmRunSummary full = run_mpm_case(c, whole, nullptr);
+  EXPECT_EQ(full.analysis, MpmAnalysis::quasi_static);
+  ASSERT_EQ(full.checkpoints.size(), 2u);
+  const fs::path second = temp_dir("restarted");
+  const MpmRunSummary part = run_mpm_case(c, second, nullptr, full.checkpoints[0]);
+  EXPECT_EQ(part.steps, full.steps);
+  EXPECT_EQ(part.time, full.time);
+  EXPECT_EQ(read_text(second / "energies.csv"), read_text(whole / "energies.csv"));
+  EXPECT_EQ(read_text(second / "bodies.csv"), read_text(whole / "bodies.csv"));
+
+  // An explicit case cannot continue a quasi-static checkpoint.
+  std::string text =
+      replaced(plate_case(), "analysis = \"quasi-static\"\ndisplacement_step_m = 0.001\n", "");
+  const MpmCase explicit_case = read_mpm_case_text(text, "explicit.toml");
+  try {
+    run_mpm_case(explicit_case, temp_dir("mixed"), nullptr, full.checkpoints[0]);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("analysis"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("quasi-static"), std::string::npos) << e.what();
+  }
+  for (const fs::path& dir : {whole, second, temp_dir("mixed")}) fs::remove_all(dir);
+}
+
+TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
+  std::string message =
+      read_error(replaced(kColumn, "threads = 1", "threads = 1\nmass_scaling = 2"));
+  EXPECT_NE(message.find("solver.mass_scaling"), std::string::npos) << message;
+  EXPECT_NE(message.find("explicit"), std::string::npos) << message;
+  EXPECT_NE(message.find("case.toml:"), std::string::npos) << message;
+
+  message =
+      read_error(replaced(kColumn, "duration_s = 1.0", "duration_s = 1.0\nlocal_damping = 0.1"));
+  EXPECT_NE(message.find("local_damping"), std::string::npos) << message;
+
+  message =
+      read_error(replaced(kColumn, "analysis = \"quasi-static\"", "displacement_step_m = 0.1"));
+  EXPECT_NE(message.find("solver.displacement_step_m"), std::string::npos) << message;
+  EXPECT_NE(message.find("quasi-static"), std::string::npos) << message;
+
+  message = read_error(replaced(kColumn, "analysis = \"quasi-static\"", "analysis = \"implicit\""));
+  EXPECT_NE(message.find("solver.analysis"), std::string::npos) << message;
+
+  // Inertia-driven: an initial velocity.
+  const MpmCase moving =
+      read_mpm_case_text(replaced(kColumn, "initial_stress = \"zero\"",
+                                  "initial_stress = \"zero\"\nvelocity_y_m_per_s = -1.0"),
+                         "moving.toml");
+  try {
+    QuasiStaticScheme scheme(moving);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("velocity"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("explicit"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace pilempm
