@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/centrifuge_summaries.hpp"
 #include "pilempm/scenario/centrifuge/run_checks.hpp"
 
 namespace pilempm::scenario {
@@ -16,18 +17,8 @@ namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The figures of a good run (the quick case's order of magnitude).
 CentrifugeSummary good_run() {
-  CentrifugeSummary r;
-  r.initial_stress_error = 0.003;
-  r.installation_head_force = 340.0;
-  r.installation_tip_depth_D = 5.0;
-  r.equilibrium_error = 0.015;
-  r.equilibrium_error_1D = 0.004;
-  r.max_kinetic_to_work = 0.0002;
-  r.particles_in_pile = 0;
-  r.min_radius_mm = 0.4;
-  return r;
+  return pilempm_test::summary_of_a_good_centrifuge_run();
 }
 
 std::vector<std::string> failed_names(const CentrifugeSummary& r) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/centrifuge_summaries.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 #include "pilempm/study/centrifuge_study.hpp"
@@ -20,20 +21,6 @@ namespace {
 namespace fs = std::filesystem;
 using scenario::CentrifugeSummary;
 
-CentrifugeSummary summary_of_a_good_run() {
-  CentrifugeSummary r;
-  r.title = "a run";
-  r.initial_stress_error = 0.003;
-  r.initial_stress_ratio = 1.0;
-  r.installation_head_force = 400.0;
-  r.installation_tip_depth_D = 6.0;
-  r.equilibrium_error = 0.003;
-  r.equilibrium_error_1D = 0.002;
-  r.max_kinetic_to_work = 0.0001;
-  r.min_radius_mm = 0.5;
-  return r;
-}
-
 TEST(CentrifugeStudyChecks, RunsThatFailTheirChecksAreNamedAndMarkedInTheReadme) {
   const fs::path dir =
       fs::temp_directory_path() / ("pilempm-study-checks-" + std::to_string(::getpid()));
@@ -42,8 +29,8 @@ TEST(CentrifugeStudyChecks, RunsThatFailTheirChecksAreNamedAndMarkedInTheReadme)
   fs::create_directories(dir / "check_mesh_d3");
   fs::create_directories(dir / "check_mesh_d4");
   write_file_atomically(dir / "check_mesh_d3" / "summary.csv",
-                        centrifuge_summary_csv(summary_of_a_good_run()));
-  CentrifugeSummary bad = summary_of_a_good_run();
+                        centrifuge_summary_csv(pilempm_test::summary_of_a_good_centrifuge_run()));
+  CentrifugeSummary bad = pilempm_test::summary_of_a_good_centrifuge_run();
   bad.equilibrium_error_1D = 1.0685;
   bad.max_kinetic_to_work = 0.14;
   write_file_atomically(dir / "check_mesh_d4" / "summary.csv", centrifuge_summary_csv(bad));
