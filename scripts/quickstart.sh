@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/build.sh
 out="${1:-results/centrifuge}"
-./build/pilempm centrifuge run --out "$out"
+./build/pilempm centrifuge run --out "$out" --overwrite  # replaces an earlier quick run there
 echo
 echo "Results are in $out/: summary.md, installation.png and load_test.png (head force against"
 echo "displacement), pile.csv (forces against displacement and depth), fields_*.png/.csv/.vtu."

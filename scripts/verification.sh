@@ -96,7 +96,7 @@ if [ $plots_only -eq 0 ]; then
       failed=1
       continue
     fi
-    run "$name" mpm run "$file" --out "$RESULTS/$name" --quiet || continue
+    run "$name" mpm run "$file" --out "$RESULTS/$name" --quiet --overwrite || continue
     # A restart case: run it again from the checkpoint of its first phase into <case>_resumed;
     # the checks compare the two.
     if [[ $name == restart_* ]]; then
@@ -107,7 +107,7 @@ if [ $plots_only -eq 0 ]; then
         continue
       fi
       run "${name}_resumed" mpm run "$file" --out "$RESULTS/${name}_resumed" \
-        --restart "$checkpoint" --quiet
+        --restart "$checkpoint" --quiet --overwrite
     fi
   done
 fi

@@ -103,23 +103,6 @@ void emit(const std::string& description, const Table& table, const std::string&
 
 // ---- command-line values and their names ---------------------------------------------------
 
-/// Every number of these commands: not empty, a whole number in the text, finite and of a sane
-/// magnitude (NumberRange's rule: it is multiplied by units, so 1e306 kPa would be infinite).
-const CLI::Validator& sane_number() {
-  static const CLI::Validator validator(
-      [](std::string& text) -> std::string {
-        if (text.empty()) return "an empty value is not allowed: give a number";
-        errno = 0;
-        char* end = nullptr;
-        const double value = std::strtod(text.c_str(), &end);
-        if (end != text.c_str() + text.size() || errno == ERANGE)
-          return fmt::format("not a number: {}", message_text(text));
-        return NumberRange::any().problem(value);
-      },
-      "NUMBER");
-  return validator;
-}
-
 /// A library key and the command-line option it comes from, with the value as the user typed
 /// it (in the option's unit).
 struct OptionOrigin {
@@ -186,7 +169,9 @@ void register_bolton(CLI::App& analytic) {
   add_pressures(command, options->p_kPa, true);
   add_csv(command, options->csv_path);
   command->callback([options] {
-    Table table({"p_kPa", "I_R", "phi_max_deg", "dilatancy_rate", "sin_psi_max", "psi_max_deg"});
+    Table table({"p_kPa", "I_R", "phi_max_deg", "dilatancy_rate", "sin_psi_max", "psi_max_deg",
+                 "status"});
+    std::vector<std::string> outside;
     for (const double p_kPa : options->p_kPa) {
       const BoltonResult result =
           naming_options({{"I_D", "--id", options->relative_density},
@@ -196,10 +181,22 @@ void register_bolton(CLI::App& analytic) {
                            return bolton(options->relative_density, options->phi_c_deg,
                                          p_kPa * kPascalPerKilopascal);
                          });
-      table.add_row({input_value(p_kPa), number(result.relative_dilatancy_index, 3),
-                     number(result.phi_max_deg, 3), number(result.dilatancy_rate, 3),
-                     number(result.sin_psi_max, 4), number(result.psi_max_deg, 3)});
+      // Bolton (1986) fitted the relation for 0 <= I_R <= 4 (he takes 0 below and caps it at
+      // 4 above); the table keeps the value as it is, as the study's does, and says so.
+      const double index = result.relative_dilatancy_index;
+      const char* status = index < 0.0   ? "I_R < 0: outside Bolton's range 0 <= I_R <= 4"
+                           : index > 4.0 ? "I_R > 4: outside Bolton's range 0 <= I_R <= 4"
+                                         : "ok";
+      if (index < 0.0 || index > 4.0) outside.push_back(format_value(p_kPa));
+      table.add_row({input_value(p_kPa), number(index, 3), number(result.phi_max_deg, 3),
+                     number(result.dilatancy_rate, 3), number(result.sin_psi_max, 4),
+                     number(result.psi_max_deg, 3), text(status)});
     }
+    if (!outside.empty())
+      fmt::print(stderr,
+                 "warning: --p-kPa {}: outside the range of validity of Bolton's relation "
+                 "(0 <= I_R <= 4; the values there are extrapolated)\n",
+                 fmt::join(outside, ","));
     const std::string description = fmt::format(
         "# Bolton (1986), triaxial compression: I_D = {}, phi_c = {} deg; "
         "dilatancy_rate = (-d eps_v/d eps_1)_max, psi after Schanz & Vermeer (1996)\n",

@@ -30,6 +30,7 @@ struct CalibrateFlags {
   int threads = 0;
   std::string method;
   bool no_plots = false;
+  bool overwrite = false;
   std::string python;
   // Synthetic data.
   std::string truth;
@@ -92,7 +93,9 @@ void calibrate(const CalibrateFlags& f) {
   if (f.threads > 0) c.problem.threads = f.threads;
   if (!f.method.empty()) c.problem.method = f.method;
   for (const std::string& w : c.warnings) fmt::print(stderr, "pilempm: warning: {}\n", w);
-  prepare_output_directory(f.out);
+  OutputFolderOptions folder;
+  folder.overwrite = f.overwrite;
+  take_output_folder(f.out, folder);
   fmt::print("calibrate: {} test(s), {} free parameter(s), {} thread(s), method {}\n",
              c.problem.tests.size(), c.problem.free.size(), c.problem.threads, c.problem.method);
   const calibration::FitResult result =
@@ -144,6 +147,7 @@ void register_calibrate_commands(CLI::App& app) {
   sub->add_option("--method", flags->method, "ceres-lm (default) or nlopt-bobyqa")
       ->check(CLI::IsMember({"ceres-lm", "nlopt-bobyqa"}));
   sub->add_flag("--no-plots", flags->no_plots, "do not draw the PNG figures");
+  add_overwrite_flag(*sub, flags->overwrite);
   sub->add_option("--python", flags->python,
                   "Python interpreter with matplotlib (default /usr/bin/python3, then python3)");
   sub->add_option("--make-data", flags->truth,
@@ -154,9 +158,11 @@ void register_calibrate_commands(CLI::App& app) {
   sub->add_option("--noise", flags->noise,
                   "with --make-data: Gaussian noise, standard deviation as a fraction of each "
                   "quantity's range in its test")
-      ->check(CLI::Range(0.0, 1.0))
+      ->check(sane_number() & CLI::Range(0.0, 1.0))
       ->capture_default_str();
-  sub->add_option("--seed", flags->seed, "with --make-data: random seed")->capture_default_str();
+  sub->add_option("--seed", flags->seed, "with --make-data: random seed")
+      ->check(CLI::Range(0u, 4294967295u))
+      ->capture_default_str();
   sub->callback([flags]() {
     if (!flags->truth.empty()) {
       make_data(*flags);

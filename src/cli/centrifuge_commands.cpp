@@ -11,6 +11,7 @@
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <unistd.h>
 
@@ -19,6 +20,7 @@
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/output/format.hpp"
 #include "pilempm/io/toml_reader.hpp"
+#include "pilempm/scenario/centrifuge/run_checks.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 
 namespace pilempm::cli {
@@ -33,10 +35,29 @@ struct CentrifugeFlags {
   std::string python;
   bool quiet = false;
   bool no_plots = false;
+  bool overwrite = false;
 };
 
 std::string shown(double value, const char* format) {
   return shown_number(value, format);
+}
+
+// "checks: PASS" or a FAILED line per failed check; then ChecksFailed (exit status 4).
+void report_checks(const std::vector<CentrifugeCheck>& checks, const std::string& summary) {
+  const std::vector<CentrifugeCheck> failed = failed_checks(checks);
+  if (failed.empty()) {
+    fmt::print("checks: PASS ({} of the run's own checks; limits in docs/verification.md §8)\n",
+               checks.size());
+    return;
+  }
+  for (const CentrifugeCheck& c : failed) fmt::print("FAILED: {}\n", c.text());
+  std::fflush(stdout);
+  std::string names;
+  for (const CentrifugeCheck& c : failed) names += (names.empty() ? "" : ", ") + c.name;
+  throw ChecksFailed(
+      fmt::format("the run failed {} of its own checks ({}); its results are kept "
+                  "in {} and the files beside it",
+                  failed.size(), names, summary));
 }
 
 void run_centrifuge_command(const CentrifugeFlags& flags) {
@@ -48,6 +69,9 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
   fmt::print("{}: \"{}\", phases {} -> {}/\n", source, scenario.title,
              fmt::join(scenario_phase_names(scenario), ", "), flags.out);
   std::fflush(stdout);
+  OutputFolderOptions folder;
+  folder.overwrite = flags.overwrite;
+  take_output_folder(flags.out, folder);
   CentrifugeRunOptions options;
   options.python = flags.python;
   options.plots = !flags.no_plots;
@@ -74,6 +98,7 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
     fmt::print(stderr, "warning: the figures were not drawn: {}\n", r.plot_problem);
   fmt::print("done: {} particles, {} steps in {:.1f} s; summary in {}/summary.md\n", r.particles,
              r.steps, r.wall_seconds, flags.out);
+  report_checks(centrifuge_checks(r), flags.out + "/summary.md");
 }
 
 }  // namespace
@@ -100,6 +125,7 @@ void register_centrifuge_commands(CLI::App& app) {
       ->type_name("PROGRAM");
   run->add_flag("--no-plots", flags->no_plots, "write figures.json but do not draw the PNGs");
   run->add_flag("--quiet", flags->quiet, "no progress lines on stderr");
+  add_overwrite_flag(*run, flags->overwrite);
   run->callback([flags]() { run_centrifuge_command(*flags); });
 
   auto case_file = std::make_shared<std::string>();

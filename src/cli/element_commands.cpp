@@ -287,6 +287,7 @@ struct RunFlags {
   std::string case_file;
   std::string out = "element-results";
   std::vector<std::string> only;
+  bool overwrite = false;
 };
 
 void run_case(const RunFlags& flags) {
@@ -296,6 +297,9 @@ void run_case(const RunFlags& flags) {
   const std::size_t total = select_tests(file, flags.only).size();
   fmt::print("{}: {} test{} -> {}/\n", file.source, total, total == 1 ? "" : "s", flags.out);
   std::fflush(stdout);
+  OutputFolderOptions folder;
+  folder.overwrite = flags.overwrite;
+  take_output_folder(flags.out, folder);
   ElementRunObserver observer;
   const int digits = static_cast<int>(std::to_string(total).size());
   observer.started = [digits](std::size_t index, std::size_t count, const ElementCase& c) {
@@ -335,6 +339,7 @@ void register_element_commands(CLI::App& app) {
   run->add_option("--only", flags->only, "run only these tests (repeat or separate by commas)")
       ->delimiter(',')
       ->type_name("NAME");
+  add_overwrite_flag(*run, flags->overwrite);
   run->callback([flags]() { run_case(*flags); });
 
   add_single_test_command(*element, "triaxial",

@@ -11,6 +11,7 @@
 
 #include "cli/commands.hpp"
 #include "pilempm/core/error.hpp"
+#include "pilempm/io/output/output_folder.hpp"
 
 namespace {
 
@@ -41,6 +42,20 @@ void reject_empty_arguments(int argc, char** argv) {
   }
 }
 
+// However a command ends, with an error too, no temporary file of this process stays behind in
+// its output folder.
+struct RemoveOwnTemporaryFiles {
+  RemoveOwnTemporaryFiles() = default;
+  RemoveOwnTemporaryFiles(const RemoveOwnTemporaryFiles&) = delete;
+  RemoveOwnTemporaryFiles& operator=(const RemoveOwnTemporaryFiles&) = delete;
+  ~RemoveOwnTemporaryFiles() {
+    try {
+      pilempm::remove_own_temporary_files();
+    } catch (...) {  // a destructor does not throw; nothing more to do at the end
+    }
+  }
+};
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -49,6 +64,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "pilempm 0.1.0");
   pilempm::cli::register_commands(app);
+  app.footer(pilempm::cli::exit_status_help());
+  const RemoveOwnTemporaryFiles cleanup;
   try {
     reject_empty_arguments(argc, argv);
     app.parse(argc, argv);  // the chosen subcommand runs in its callback
@@ -58,12 +75,15 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "pilempm: error: command line: {}\nRun with --help for more information.\n",
                pilempm::message_text(e.what(), 400));
     return e.get_exit_code();
+  } catch (const pilempm::cli::ChecksFailed& e) {
+    fmt::print(stderr, "pilempm: FAILED: {}\n", e.what());
+    return pilempm::cli::kExitChecksFailed;
   } catch (const pilempm::Error& e) {
     fmt::print(stderr, "pilempm: error: {}\n", e.what());
-    return 2;
+    return pilempm::cli::kExitError;
   } catch (const std::exception& e) {
     fmt::print(stderr, "pilempm: internal error: {}\n", e.what());
-    return 3;
+    return pilempm::cli::kExitInternalError;
   }
-  return 0;
+  return pilempm::cli::kExitOk;
 }

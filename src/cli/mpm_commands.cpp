@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -13,6 +14,7 @@
 #include <unistd.h>
 
 #include "cli/commands.hpp"
+#include "pilempm/core/error.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
 
@@ -25,7 +27,22 @@ struct MpmRunFlags {
   std::string out = "mpm-results";
   std::string restart;
   bool quiet = false;
+  bool overwrite = false;
 };
+
+// A restart continues its own run when its checkpoint lies in the output folder: that folder's
+// files are the run's own earlier part, kept.
+bool restarts_in_its_own_folder(const MpmRunFlags& flags) {
+  if (flags.restart.empty()) return false;
+  const auto canonical = [](const std::filesystem::path& path) {
+    std::error_code ec;
+    std::filesystem::path p = std::filesystem::weakly_canonical(path, ec);
+    if (ec) return std::filesystem::path();
+    return p.has_filename() ? p : p.parent_path();  // "DIR/" as "DIR"
+  };
+  const std::filesystem::path folder = canonical(flags.out);
+  return !folder.empty() && folder == canonical(flags.restart).parent_path();
+}
 
 void run_mpm(const MpmRunFlags& flags) {
   const simulation::MpmCase c = read_mpm_case(flags.case_file);
@@ -38,6 +55,14 @@ void run_mpm(const MpmRunFlags& flags) {
              c.analysis == simulation::MpmAnalysis::quasi_static ? "of pseudo-time" : "simulated",
              flags.out);
   std::fflush(stdout);
+  OutputFolderOptions folder;
+  folder.resume = restarts_in_its_own_folder(flags);
+  folder.overwrite = flags.overwrite;
+  if (folder.resume && folder.overwrite)
+    throw InputError("command line", 0, "--overwrite", "",
+                     "not with --restart from a checkpoint in the output folder: it would "
+                     "remove the checkpoint (the run's own files there are kept without it)");
+  take_output_folder(flags.out, folder);
   MpmRunHooks hooks;
   hooks.progress_on_terminal = isatty(STDERR_FILENO) != 0;
   const MpmRunSummary summary =
@@ -83,6 +108,7 @@ void register_mpm_commands(CLI::App& app) {
                   "the case's phases after it and the case's materials")
       ->type_name("FILE");
   run->add_flag("--quiet", flags->quiet, "no progress lines on stderr");
+  add_overwrite_flag(*run, flags->overwrite);
   run->callback([flags]() { run_mpm(*flags); });
 }
 

@@ -25,6 +25,7 @@ struct CalibrationFlags {
   std::string out;
   bool quick = false;
   bool no_plots = false;
+  bool overwrite = false;
   std::string python;
 };
 
@@ -37,6 +38,9 @@ void run_calibration(const CalibrationFlags& flags) {
   options.python = flags.python;
   fmt::print("pilempm study calibration{} -> {}/\n", flags.quick ? " --quick" : "", flags.out);
   std::fflush(stdout);
+  OutputFolderOptions folder;
+  folder.overwrite = flags.overwrite;
+  take_output_folder(flags.out, folder);
   const CalibrationStudyReport report =
       run_calibration_study(flags.out, options, [](const std::string& line) {
         fmt::print("{}\n", line);
@@ -78,6 +82,7 @@ struct CentrifugeStudyFlags {
   bool report_only = false;
   bool no_plots = false;
   bool quiet = false;
+  bool overwrite = false;
   std::string python;
 };
 
@@ -94,8 +99,28 @@ void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
       flags.groups.empty() ? std::string("all") : fmt::format("{}", fmt::join(flags.groups, ", ")),
       flags.out);
   std::fflush(stdout);
-  run_centrifuge_study(options, flags.out, flags.quiet ? nullptr : &std::cerr);
+  OutputFolderOptions folder;
+  folder.overwrite = flags.overwrite;
+  folder.resume = flags.resume || flags.report_only;  // the study's own earlier runs
+  if (folder.resume && folder.overwrite)
+    throw InputError("command line", 0, "--overwrite", "",
+                     "not with --resume or --report-only, which use the runs in the folder");
+  take_output_folder(flags.out, folder);
+  const std::vector<CentrifugeStudyFailure> failed =
+      run_centrifuge_study(options, flags.out, flags.quiet ? nullptr : &std::cerr);
   fmt::print("done: the comparison is in {}/README.md\n", flags.out);
+  if (failed.empty()) return;
+  std::string files;
+  for (const CentrifugeStudyFailure& f : failed) {
+    for (const std::string& check : f.checks) fmt::print("FAILED: {}: {}\n", f.file, check);
+    files += (files.empty() ? "" : ", ") + f.file;
+  }
+  std::fflush(stdout);
+  throw ChecksFailed(fmt::format(
+      "{} run{} of the study failed {} own checks ({}); the results are kept in {}/ and marked "
+      "FAILED in {}/README.md",
+      failed.size(), failed.size() == 1 ? "" : "s", failed.size() == 1 ? "its" : "their", files,
+      flags.out, flags.out));
 }
 
 }  // namespace
@@ -117,6 +142,7 @@ void register_study_commands(CLI::App& app) {
                         "a quarter of the increments in every test (every item is kept)");
   calibration->add_flag("--no-plots", flags->no_plots,
                         "write the CSVs, figures.json and README.md, but draw no PNG files");
+  add_overwrite_flag(*calibration, flags->overwrite);
   calibration
       ->add_option("--python", flags->python,
                    "Python interpreter with matplotlib for the figures (default: "
@@ -153,6 +179,7 @@ void register_study_commands(CLI::App& app) {
                        "(a group is drawn when all its runs exist)");
   centrifuge->add_flag("--no-plots", centrifuge_flags->no_plots, "draw no PNG files");
   centrifuge->add_flag("--quiet", centrifuge_flags->quiet, "no progress lines on stderr");
+  add_overwrite_flag(*centrifuge, centrifuge_flags->overwrite);
   centrifuge
       ->add_option("--python", centrifuge_flags->python,
                    "Python interpreter with matplotlib for the figures")

@@ -17,12 +17,13 @@ struct Result {
 
 /// Runs `pilempm ARGUMENTS` through the shell and collects its output and exit code. With
 /// `timeout_s` > 0 the program is stopped after that many seconds (killed 10 s later if need be)
-/// and the exit code is then 124.
-inline Result run_pilempm(const std::string& arguments, int timeout_s = 0) {
+/// and the exit code is then 124. `shell_prefix` runs in the shell before it (e.g. a ulimit).
+inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
+                          const std::string& shell_prefix = "") {
   const std::string limit =
       timeout_s > 0 ? "timeout -k 10 " + std::to_string(timeout_s) + " " : std::string();
   const std::string command =
-      limit + std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
+      shell_prefix + limit + std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
   Result r;
   FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return r;

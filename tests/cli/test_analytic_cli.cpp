@@ -45,6 +45,22 @@ TEST(AnalyticCli, BoltonPrintsTheBriefTable) {
     EXPECT_TRUE(contains(run.output, value)) << value << " missing in\n" << run.output;
 }
 
+// Bolton's relation holds for 0 <= I_R <= 4: the rows outside say so, and stderr warns.
+TEST(AnalyticCli, BoltonSaysWhenAStressIsOutsideTheRangeOfValidity) {
+  const CommandResult inside = run_pilempm("analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 500");
+  ASSERT_EQ(inside.exit_code, 0) << inside.output;
+  EXPECT_FALSE(contains(inside.output, "warning")) << inside.output;
+  EXPECT_FALSE(contains(inside.output, "outside")) << inside.output;
+  // I_R = -1.294 at 30 MPa, 0.95 (10 - ln 1) - 1 = 8.5 at 1 kPa.
+  const CommandResult run =
+      run_pilempm("analytic bolton --id 0.95 --phi-c-deg 31 --p-kPa 1,500,30000");
+  ASSERT_EQ(run.exit_code, 0) << run.output;
+  EXPECT_TRUE(contains(run.output, "I_R < 0: outside Bolton's range")) << run.output;
+  EXPECT_TRUE(contains(run.output, "I_R > 4: outside Bolton's range")) << run.output;
+  EXPECT_TRUE(contains(run.output, "warning: --p-kPa 1,30000: outside the range of validity"))
+      << run.output;
+}
+
 TEST(AnalyticCli, BoltonWritesCsvWithUnitsInColumnNames) {
   const auto path = std::filesystem::temp_directory_path() /
                     ("pilempm_test_bolton_" + std::to_string(::getpid()) + ".csv");
@@ -58,7 +74,7 @@ TEST(AnalyticCli, BoltonWritesCsvWithUnitsInColumnNames) {
   std::getline(file, first);
   std::getline(file, second);
   EXPECT_FALSE(std::getline(file, extra));
-  EXPECT_EQ(header, "p_kPa,I_R,phi_max_deg,dilatancy_rate,sin_psi_max,psi_max_deg");
+  EXPECT_EQ(header, "p_kPa,I_R,phi_max_deg,dilatancy_rate,sin_psi_max,psi_max_deg,status");
   EXPECT_EQ(first.rfind("500,2.59", 0), 0u) << first;
   EXPECT_EQ(second.rfind("30000,-1.29", 0), 0u) << second;
   std::filesystem::remove(path);

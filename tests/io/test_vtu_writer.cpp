@@ -3,7 +3,6 @@
 
 #include <cstdint>
 #include <cstring>
-#include <regex>
 #include <string>
 #include <vector>
 
@@ -44,10 +43,18 @@ std::vector<unsigned char> decode(const std::string& text) {
 
 // The decoded values of the DataArray called `name` (UInt64 byte count, then doubles).
 std::vector<double> array_values(const std::string& vtu, const std::string& name) {
-  const std::regex pattern("Name=\"" + name + "\"[^>]*format=\"binary\">\\s*([A-Za-z0-9+/=]+)");
-  std::smatch match;
-  if (!std::regex_search(vtu, match, pattern)) return {};
-  const std::vector<unsigned char> bytes = decode(match[1].str());
+  // Name="NAME" ... format="binary">, then white space and the base64 text up to the next '<'.
+  const std::size_t at = vtu.find("Name=\"" + name + "\"");
+  if (at == std::string::npos) return {};
+  const std::size_t close = vtu.find('>', at);
+  if (close == std::string::npos ||
+      vtu.substr(at, close - at).find("format=\"binary\"") == std::string::npos)
+    return {};
+  const std::size_t start = vtu.find_first_not_of(" \t\r\n", close + 1);
+  const std::size_t end = vtu.find_first_not_of(
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/=", start);
+  if (start == std::string::npos || end == std::string::npos || end == start) return {};
+  const std::vector<unsigned char> bytes = decode(vtu.substr(start, end - start));
   std::uint64_t count = 0;
   std::memcpy(&count, bytes.data(), sizeof(count));
   EXPECT_EQ(bytes.size(), sizeof(count) + count);

@@ -10,7 +10,6 @@
 #include <fstream>
 #include <map>
 #include <memory>
-#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -35,10 +34,14 @@ std::string read_text(const fs::path& path) {
 // Every value of `"key": "..."` in a JSON text (enough for figures.json).
 std::set<std::string> json_strings(const std::string& json, const std::string& key) {
   std::set<std::string> values;
-  const std::regex pattern("\"" + key + "\": \"([^\"]*)\"");
-  for (auto it = std::sregex_iterator(json.begin(), json.end(), pattern);
-       it != std::sregex_iterator(); ++it)
-    values.insert((*it)[1]);
+  const std::string opening = "\"" + key + "\": \"";
+  for (std::size_t at = json.find(opening); at != std::string::npos;
+       at = json.find(opening, at + 1)) {
+    const std::size_t start = at + opening.size();
+    const std::size_t end = json.find('"', start);
+    if (end == std::string::npos) break;
+    values.insert(json.substr(start, end - start));
+  }
   return values;
 }
 

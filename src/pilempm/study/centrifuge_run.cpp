@@ -21,6 +21,7 @@
 #include "pilempm/io/output/format.hpp"
 #include "pilempm/io/output/json_writer.hpp"
 #include "pilempm/io/vtu_writer.hpp"
+#include "pilempm/scenario/centrifuge/run_checks.hpp"
 #include "pilempm/simulation/body_force_means.hpp"
 #include "pilempm/simulation/phase_control.hpp"
 #include "pilempm/simulation/run_loop.hpp"
@@ -126,6 +127,23 @@ class FieldWriter final : public RunObserver {
   std::vector<mpm::Vec2> reference_position_;  // after the K0 phase
 };
 
+// The verdict of the run's own checks: "**Checks: PASS**" or "**FAILED**" with each failed
+// check, then every check.
+std::string checks_markdown(const std::vector<CentrifugeCheck>& checks) {
+  const std::vector<CentrifugeCheck> failed = failed_checks(checks);
+  std::string md = failed.empty()
+                       ? "**Checks: PASS** (docs/verification.md §8 gives the limits).\n\n"
+                       : fmt::format(
+                             "**FAILED: {} of the run's own checks failed**; the results below "
+                             "are kept but do not hold (docs/verification.md §8 gives the "
+                             "limits).\n\n",
+                             failed.size());
+  for (const CentrifugeCheck& c : checks)
+    md +=
+        fmt::format("- {}{}\n", c.passed ? (c.applies ? "pass: " : "") : "**FAILED**: ", c.text());
+  return md + "\n";
+}
+
 std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummary& r) {
   auto value = [](double v, const char* format) { return shown_number(v, format); };
   std::string md = fmt::format("# {}\n\n", r.title);
@@ -134,6 +152,7 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
       "with {}, pile wished in place at {:g} D, installed {:g} D.\n\n",
       1e3 * s.pile_diameter, s.g_level, s.container_radius_D, s.sand_height_D, s.e0, s.e0_at,
       s.installation_material, s.igs, s.wished_in_place_D, s.installation_D);
+  md += checks_markdown(centrifuge_checks(r));
   md += "| quantity | value |\n|---|---|\n";
   md += fmt::format(
       "| head force at the end of installation (mean over the last cell of travel) "
@@ -337,13 +356,20 @@ std::vector<std::pair<std::string, double>> summary_numbers(const CentrifugeSumm
           {"max_kinetic_to_work", r.max_kinetic_to_work},
           {"particles_in_pile", static_cast<double>(r.particles_in_pile)},
           {"max_penetration_cells", r.max_penetration_cells},
-          {"min_radius_mm", r.min_radius_mm}};
+          {"min_radius_mm", r.min_radius_mm},
+          {"checks_failed", static_cast<double>(failed_checks(centrifuge_checks(r)).size())}};
 }
 
 }  // namespace
 
 std::string centrifuge_summary_json(const CentrifugeSummary& r) {
   std::string json = "{\n  \"title\": " + json_quote(r.title);
+  const std::vector<CentrifugeCheck> failed = failed_checks(centrifuge_checks(r));
+  json += fmt::format(",\n  \"checks\": {}", json_quote(failed.empty() ? "PASS" : "FAILED"));
+  json += ",\n  \"failed_checks\": [";
+  for (std::size_t k = 0; k < failed.size(); ++k)
+    json += (k == 0 ? "" : ", ") + json_quote(failed[k].text());
+  json += "]";
   for (const auto& [key, value] : summary_numbers(r))
     json += fmt::format(",\n  {}: {}", json_quote(key), json_number(value, 6));
   return json + "\n}\n";

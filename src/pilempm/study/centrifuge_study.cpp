@@ -5,12 +5,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/output/format.hpp"
+#include "pilempm/io/output/output_folder.hpp"
 #include "pilempm/io/toml_reader.hpp"
+#include "pilempm/scenario/centrifuge/run_checks.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 #include "pilempm/study/csv_table.hpp"
 #include "pilempm/study/figures.hpp"
@@ -146,6 +149,32 @@ std::string cell(const NumericTable& t, const std::string& column, const char* f
   return shown_number(scale * v, format);
 }
 
+// The run's own checks from the numbers of its summary.csv (a run kept by --resume is judged
+// the same as a new one); a column that is missing reads as NaN.
+std::vector<CentrifugeCheck> checks_of(const NumericTable& t) {
+  const auto number = [&t](const char* column) {
+    return t.has(column) && t.rows() > 0 ? t.column(column).back()
+                                         : std::numeric_limits<double>::quiet_NaN();
+  };
+  CentrifugeSummary r;
+  r.initial_stress_error = number("initial_stress_error");
+  r.installation_tip_depth_D = number("installation_tip_depth_D");
+  r.equilibrium_error = number("equilibrium_error");
+  r.equilibrium_error_1D = number("equilibrium_error_1D");
+  r.max_kinetic_to_work = number("max_kinetic_to_work");
+  const double inside = number("particles_in_pile");
+  r.particles_in_pile = inside >= 0.0 ? static_cast<std::size_t>(inside) : 0;
+  r.min_radius_mm = number("min_radius_mm");
+  return centrifuge_checks(r);
+}
+
+std::string checks_cell(const std::vector<CentrifugeCheck>& failed) {
+  if (failed.empty()) return "pass";
+  std::string names;
+  for (const CentrifugeCheck& c : failed) names += (names.empty() ? "" : ", ") + c.name;
+  return "**FAILED**: " + names;
+}
+
 }  // namespace
 
 const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
@@ -202,8 +231,9 @@ const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
   return groups;
 }
 
-void run_centrifuge_study(const CentrifugeStudyOptions& options,
-                          const std::filesystem::path& out_dir, std::ostream* progress) {
+std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOptions& options,
+                                                         const std::filesystem::path& out_dir,
+                                                         std::ostream* progress) {
   std::vector<std::string> names;
   for (const CentrifugeStudyGroup& g : centrifuge_study_groups()) names.push_back(g.name);
   for (const std::string& name : options.groups)
@@ -240,18 +270,26 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
     if (progress != nullptr)
       *progress << fmt::format("study: running {} ({}/{})\n", files[k], k + 1, files.size())
                 << std::flush;
+    // The case's folder is the study's own: what an earlier, unfinished run of the case left
+    // there is replaced.
+    OutputFolderOptions folder;
+    folder.overwrite = true;
+    claim_output_folder(dir, folder);
     CentrifugeRunOptions run_options;
     run_options.plots = options.plots;
     run_options.python = options.python;
     const CentrifugeSummary s =
         run_centrifuge(scenarios[k].first, scenarios[k].second, dir, progress, run_options);
+    const std::vector<CentrifugeCheck> failed = failed_checks(centrifuge_checks(s));
     if (progress != nullptr)
       *progress << fmt::format(
-          "study: {} done in {:.1f} s: head force {:.1f} N, capacity {:.1f} N\n", files[k],
-          s.wall_seconds, s.installation_head_force, s.capacity);
+          "study: {} done in {:.1f} s: head force {:.1f} N, capacity {:.1f} N{}\n", files[k],
+          s.wall_seconds, s.installation_head_force, s.capacity,
+          failed.empty() ? std::string() : fmt::format(", FAILED {} of its checks", failed.size()));
   }
 
   // The comparisons and the table.
+  std::vector<CentrifugeStudyFailure> failures;
   std::vector<FigureSpec> figures;
   std::string readme =
       "# Centrifuge study\n\nEach run is in its folder (`<case>/summary.md`, "
@@ -271,19 +309,29 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
     readme +=
         "| run | case file | head force end of installation [N] | peak tip stress [MPa] | "
         "SLT capacity at 0.1 D [N] | equilibrium error [%] | kinetic / work [%] | wall time "
-        "[s] |\n|---|---|---|---|---|---|---|---|\n";
+        "[s] | checks |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const CentrifugeStudyCase& c : g->cases) {
       const std::filesystem::path file = out_dir / stem(c.file) / "summary.csv";
       if (!std::filesystem::exists(file)) {
-        readme += fmt::format("| {} | `{}` | not run | | | | | |\n", c.label, c.file);
+        readme += fmt::format("| {} | `{}` | not run | | | | | | |\n", c.label, c.file);
         continue;
       }
       const NumericTable t = read_numeric_csv(file);
+      const std::vector<CentrifugeCheck> failed = failed_checks(checks_of(t));
       readme += fmt::format(
-          "| {} | `{}` | {} | {} | {} | {} | {} | {} |\n", c.label, c.file,
+          "| {} | `{}` | {} | {} | {} | {} | {} | {} | {} |\n", c.label, c.file,
           cell(t, "installation_head_force_N", "{:.1f}"), cell(t, "peak_tip_stress_MPa", "{:.2f}"),
           cell(t, "load_test_capacity_N", "{:.1f}"), cell(t, "equilibrium_error", "{:.2f}", 100.0),
-          cell(t, "max_kinetic_to_work", "{:.3f}", 100.0), cell(t, "wall_time_s", "{:.0f}"));
+          cell(t, "max_kinetic_to_work", "{:.3f}", 100.0), cell(t, "wall_time_s", "{:.0f}"),
+          checks_cell(failed));
+      const bool listed =
+          std::any_of(failures.begin(), failures.end(),
+                      [&c](const CentrifugeStudyFailure& f) { return f.file == c.file; });
+      if (!failed.empty() && !listed) {
+        CentrifugeStudyFailure failure{c.file, {}};
+        for (const CentrifugeCheck& check : failed) failure.checks.push_back(check.text());
+        failures.push_back(std::move(failure));
+      }
     }
   }
   write_file_atomically(out_dir / "plot_figures.py", plot_script_text());
@@ -298,6 +346,7 @@ void run_centrifuge_study(const CentrifugeStudyOptions& options,
     if (!plots.plotted && progress != nullptr)
       *progress << fmt::format("study: the figures were not drawn: {}\n", plots.problem);
   }
+  return failures;
 }
 
 }  // namespace pilempm

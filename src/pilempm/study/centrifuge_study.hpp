@@ -34,9 +34,18 @@ struct CentrifugeStudyOptions {
   std::string python;
 };
 
+/// A run of the study that failed its own checks (scenario/centrifuge/run_checks.hpp).
+struct CentrifugeStudyFailure {
+  std::string file;                 ///< the case file, e.g. "md_original.toml"
+  std::vector<std::string> checks;  ///< each failed check's text
+};
+
 /// Runs the study into `out_dir`; progress lines go to `progress` (nullptr: none). Throws
 /// InputError naming an unknown group or a case file that is missing or wrong, before any run.
-void run_centrifuge_study(const CentrifugeStudyOptions& options,
-                          const std::filesystem::path& out_dir, std::ostream* progress);
+/// Returns the runs of the chosen groups that exist and failed their own checks (README.md
+/// marks them FAILED); their results are kept.
+std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOptions& options,
+                                                         const std::filesystem::path& out_dir,
+                                                         std::ostream* progress);
 
 }  // namespace pilempm

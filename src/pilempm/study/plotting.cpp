@@ -8,7 +8,11 @@
 
 #include <cerrno>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string_view>
 
+#include "pilempm/io/output/output_folder.hpp"
 #include "pilempm/study/plot_figures_script.hpp"
 
 extern char** environ;
@@ -18,6 +22,21 @@ namespace pilempm {
 namespace {
 
 constexpr int kExitNoMatplotlib = 3;  // plot_figures.py's exit status without matplotlib
+
+// The PNG files the script writes (a figure's "file", a calibration test's "png", relative to the
+// JSON file) belong to the run: listed in its folder's list of files (output_folder.hpp).
+void note_figure_files(const std::filesystem::path& figures_json) {
+  std::ifstream in(figures_json);
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  for (const std::string_view key :
+       {std::string_view("\"file\": \""), std::string_view("\"png\": \"")})
+    for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+      const std::size_t start = at + key.size();
+      const std::size_t end = text.find('"', start);
+      if (end == std::string::npos) break;
+      note_output_file(figures_json.parent_path() / text.substr(start, end - start));
+    }
+}
 
 // Closes a file descriptor once.
 struct Descriptor {
@@ -104,6 +123,7 @@ PlotOutcome draw_figures(const std::filesystem::path& script,
                          const std::filesystem::path& figures_json, const std::string& python,
                          const std::function<void(const std::string&)>& progress) {
   PlotOutcome outcome;
+  note_figure_files(figures_json);
   const std::vector<std::string> candidates =
       python.empty() ? std::vector<std::string>{"/usr/bin/python3", "python3"}
                      : std::vector<std::string>{python};

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "pilempm/core/error.hpp"
+#include "pilempm/io/output/output_folder.hpp"
 
 namespace pilempm {
 
@@ -51,6 +52,7 @@ bool write_and_sync(const fs::path& path, std::string_view content) {
 }  // namespace
 
 fs::path temporary_path_for(const fs::path& path) {
+  note_output_file(path);  // listed in its run folder's list of files (output_folder.hpp)
   static std::atomic<unsigned long> count{0};
   fs::path tmp = path;
   tmp += fmt::format(".{}-{}.tmp", ::getpid(), count++);

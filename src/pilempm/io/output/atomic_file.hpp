@@ -13,7 +13,8 @@ namespace pilempm {
 /// included; `path` is then untouched.
 void write_file_atomically(const std::filesystem::path& path, std::string_view content);
 /// A name for a temporary file next to `path` that no other write uses, not even one of another
-/// process or thread into the same folder: FILE.<process>-<count>.tmp.
+/// process or thread into the same folder: FILE.<process>-<count>.tmp. Lists `path` among the
+/// files of the run folder it lies in, if one was claimed (output_folder.hpp).
 std::filesystem::path temporary_path_for(const std::filesystem::path& path);
 
 /// Creates the folder if needed and checks that a file can be created in it (throws Error).
