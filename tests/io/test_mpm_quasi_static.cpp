@@ -236,6 +236,17 @@ TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
   message = read_error(replaced(kColumn, "analysis = \"quasi-static\"", "analysis = \"implicit\""));
   EXPECT_NE(message.find("solver.analysis"), std::string::npos) << message;
 
+  // volumetric_smoothing is B-bar in the quasi-static analysis; the Newton step limit is its own.
+  const MpmCase smoothed = read_mpm_case_text(
+      replaced(kColumn, "threads = 1",
+               "threads = 1\nvolumetric_smoothing = true\nnewton_step_limit_cells = 0.1"),
+      "smoothed.toml");
+  EXPECT_TRUE(smoothed.quasi_static.volumetric_averaging);
+  EXPECT_EQ(smoothed.quasi_static.step_limit, 0.1);
+  message =
+      read_error(replaced(kColumn, "analysis = \"quasi-static\"", "newton_step_limit_cells = 0.1"));
+  EXPECT_NE(message.find("solver.newton_step_limit_cells"), std::string::npos) << message;
+
   // Inertia-driven: an initial velocity.
   const MpmCase moving =
       read_mpm_case_text(replaced(kColumn, "initial_stress = \"zero\"",

@@ -79,11 +79,11 @@ MpmGridAxis read_axis(TableReader& grid, std::string_view key, std::vector<doubl
 
 // The keys of [solver] that only one analysis reads.
 const std::vector<std::string> kExplicitOnlyKeys = {
-    "scheme",       "flip_fraction",  "xpic_order",        "local_damping",
-    "mass_scaling", "courant_number", "fixed_time_step_s", "volumetric_smoothing"};
+    "scheme",       "flip_fraction",  "xpic_order",       "local_damping",
+    "mass_scaling", "courant_number", "fixed_time_step_s"};
 const std::vector<std::string> kQuasiStaticOnlyKeys = {
-    "displacement_step_m", "force_tolerance",       "max_iterations", "max_cuts",
-    "linear_solver",       "contact_penalty_factor"};
+    "displacement_step_m", "force_tolerance",        "max_iterations",         "max_cuts",
+    "linear_solver",       "contact_penalty_factor", "newton_step_limit_cells"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -133,6 +133,9 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   }
   q.contact.penalty_factor = solver->number_or("contact_penalty_factor", q.contact.penalty_factor,
                                                NumberRange::closed(1e-3, 1e3));
+  q.step_limit =
+      solver->number_or("newton_step_limit_cells", q.step_limit, NumberRange::closed(0.0, 100.0));
+  q.volumetric_averaging = s.volumetric_smoothing;  // B-bar in the quasi-static analysis
   solver->check_no_unknown_keys();
 }
 

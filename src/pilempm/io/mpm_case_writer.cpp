@@ -238,6 +238,8 @@ void write_solver(TomlText& t, const MpmCase& c) {
                                 ? "umfpack"
                                 : "sparse-lu");
   t.number("contact_penalty_factor", q.contact.penalty_factor);
+  t.number("newton_step_limit_cells", q.step_limit);
+  t.boolean("volumetric_smoothing", q.volumetric_averaging);
 }
 
 void write_integrator(TomlText& t, const IntegratorSettings& s) {
