@@ -169,8 +169,8 @@ void register_bolton(CLI::App& analytic) {
   add_pressures(command, options->p_kPa, true);
   add_csv(command, options->csv_path);
   command->callback([options] {
-    Table table({"p_kPa", "I_R", "phi_max_deg", "dilatancy_rate", "sin_psi_max", "psi_max_deg",
-                 "status"});
+    Table table(
+        {"p_kPa", "I_R", "phi_max_deg", "dilatancy_rate", "sin_psi_max", "psi_max_deg", "status"});
     std::vector<std::string> outside;
     for (const double p_kPa : options->p_kPa) {
       const BoltonResult result =

@@ -18,6 +18,7 @@
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_output.hpp"
+#include "pilempm/simulation/case_assembly.hpp"
 #include "pilempm/simulation/quasi_static_scheme.hpp"
 #include "pilempm/simulation/run_loop.hpp"
 
@@ -241,7 +242,7 @@ TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
       replaced(kColumn, "threads = 1",
                "threads = 1\nvolumetric_smoothing = true\nnewton_step_limit_cells = 0.1"),
       "smoothed.toml");
-  EXPECT_TRUE(smoothed.quasi_static.volumetric_averaging);
+  EXPECT_TRUE(quasi_static_settings(smoothed).volumetric_averaging);
   EXPECT_EQ(smoothed.quasi_static.step_limit, 0.1);
   message =
       read_error(replaced(kColumn, "analysis = \"quasi-static\"", "newton_step_limit_cells = 0.1"));

@@ -135,7 +135,6 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
                                                NumberRange::closed(1e-3, 1e3));
   q.step_limit =
       solver->number_or("newton_step_limit_cells", q.step_limit, NumberRange::closed(0.0, 100.0));
-  q.volumetric_averaging = s.volumetric_smoothing;  // B-bar in the quasi-static analysis
   solver->check_no_unknown_keys();
 }
 

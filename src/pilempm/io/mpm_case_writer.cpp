@@ -216,6 +216,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.number("gravity_m_per_s2", s.gravity);
   t.number("gravity_multiplier", s.gravity_multiplier);
   t.integer("threads", s.threads);
+  t.boolean("volumetric_smoothing", s.volumetric_smoothing);  // B-bar in the quasi-static one
   if (c.analysis == MpmAnalysis::explicit_dynamic) {
     t.text("scheme", s.scheme == mpm::UpdateScheme::usl ? "usl" : "musl");
     t.number("flip_fraction", s.flip_fraction);
@@ -224,7 +225,6 @@ void write_solver(TomlText& t, const MpmCase& c) {
     t.number("mass_scaling", s.mass_scaling);
     t.number("courant_number", s.courant_number);
     t.number("fixed_time_step_s", s.fixed_time_step);
-    t.boolean("volumetric_smoothing", s.volumetric_smoothing);
     return;
   }
   const mpm::quasi_static::Settings& q = c.quasi_static;
@@ -239,7 +239,6 @@ void write_solver(TomlText& t, const MpmCase& c) {
                                 : "sparse-lu");
   t.number("contact_penalty_factor", q.contact.penalty_factor);
   t.number("newton_step_limit_cells", q.step_limit);
-  t.boolean("volumetric_smoothing", q.volumetric_averaging);
 }
 
 void write_integrator(TomlText& t, const IntegratorSettings& s) {

@@ -162,12 +162,13 @@ mpm::Solver make_mpm_solver(const MpmCase& c) {
   return solver;
 }
 
-mpm::quasi_static::Settings quasi_static_settings(const MpmCase& c, const MpmPhase& /*phase*/) {
+mpm::quasi_static::Settings quasi_static_settings(const MpmCase& c) {
   mpm::quasi_static::Settings s = c.quasi_static;
   s.geometry = c.geometry;
   s.shape_function = c.solver.shape_function;
   s.gravity = c.solver.gravity;
   s.threads = c.solver.threads;
+  s.volumetric_averaging = c.solver.volumetric_smoothing;
   return s;
 }
 
@@ -184,9 +185,7 @@ mpm::quasi_static::QuasiStaticSolver make_quasi_static_solver(const MpmCase& c) 
   mpm::Grid grid = make_mpm_grid(c);
   mpm::Particles particles = make_mpm_particles(c, grid);
   mpm::quasi_static::QuasiStaticSolver solver(std::move(grid), std::move(particles), c.models,
-                                              c.phases.empty()
-                                                  ? quasi_static_settings(c, MpmPhase{})
-                                                  : quasi_static_settings(c, c.phases.front()));
+                                              quasi_static_settings(c));
   for (const MpmBody& b : c.bodies) solver.add_rigid_body(make_rigid_body(b));
   return solver;
 }

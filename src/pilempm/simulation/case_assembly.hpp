@@ -27,7 +27,8 @@ mpm::SolverSettings phase_settings(const MpmCase& mpm_case, const MpmPhase& phas
 /// The quasi-static solver at time 0 with the rigid bodies (at rest): the case's quasi-static
 /// settings with the geometry, shape function, gravity and threads of [solver].
 mpm::quasi_static::QuasiStaticSolver make_quasi_static_solver(const MpmCase& mpm_case);
-/// The quasi-static settings of a phase.
-mpm::quasi_static::Settings quasi_static_settings(const MpmCase& mpm_case, const MpmPhase& phase);
+/// The quasi-static settings of the case (the same in every phase): [solver]'s quasi-static keys
+/// with its geometry, shape function, gravity, threads and volumetric smoothing (B-bar).
+mpm::quasi_static::Settings quasi_static_settings(const MpmCase& mpm_case);
 
 }  // namespace pilempm::simulation

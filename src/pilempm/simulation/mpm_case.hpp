@@ -189,8 +189,8 @@ struct MpmCase {
   std::array<mpm::BoundaryCondition, 4> boundaries{};  ///< by mpm::Side
   MpmAnalysis analysis = MpmAnalysis::explicit_dynamic;
   mpm::SolverSettings solver;  ///< the settings of [solver]; phases override some
-  /// The quasi-static analysis's own settings; its geometry, shape function, gravity and threads
-  /// are those of `solver`.
+  /// The quasi-static analysis's own settings; its geometry, shape function, gravity, threads
+  /// and volumetric averaging are those of `solver` (simulation::quasi_static_settings).
   mpm::quasi_static::Settings quasi_static;
   /// Quasi-static: the largest body travel of a load step [m]; 0: a tenth of the smallest cell.
   double displacement_step = 0.0;

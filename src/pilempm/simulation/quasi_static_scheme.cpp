@@ -33,7 +33,6 @@ double QuasiStaticScheme::displacement_step() const {
 
 std::string QuasiStaticScheme::begin_phase(std::size_t index) {
   phase_ = index;
-  solver_.set_settings(quasi_static_settings(case_, case_.phases.at(index)));
   control_.reset();
   control_.emplace(case_, index, solver_, /*average_forces=*/false);
   control_->start(traction_forces_);

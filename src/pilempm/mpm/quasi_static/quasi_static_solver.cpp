@@ -784,10 +784,12 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     Vec2 displacement = Vec2::Zero();
     for (int k = 0; k < pn.count; ++k)
       displacement += pn.weight[k] * trial.node_displacement[std::size_t(pn.node[k])];
-    work_.internal += 0.5 * p.volume[i] *
-                      (p.state[i].stress + trial.state[i].stress).dot(trial.strain_increment[i]);
-    work_.external += (traction_mean * p.external_force[i] - Vec2(0.0, p.mass[i] * gravity_mean))
-                          .dot(displacement);
+    energies_.internal +=
+        0.5 * p.volume[i] *
+        (p.state[i].stress + trial.state[i].stress).dot(trial.strain_increment[i]);
+    energies_.external_work +=
+        (traction_mean * p.external_force[i] - Vec2(0.0, p.mass[i] * gravity_mean))
+            .dot(displacement);
     for (int q = 0; q < kCorners; ++q) {
       Vec2& corner = corner_position_[i * kCorners + std::size_t(q)];
       corner += displacement + trial.gradient[i] * (corner - p.position[i]);
@@ -828,7 +830,7 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     history.tangential_force = point.tangential_vector;
   }
   for (std::size_t b = 0; b < bodies_.size(); ++b) {
-    work_.contact += 0.5 * (body_forces_[b].total + forces[b].total).dot(-body_step[b]);
+    energies_.contact_work += 0.5 * (body_forces_[b].total + forces[b].total).dot(-body_step[b]);
     bodies_[b].translate(body_step[b]);
   }
   body_forces_ = std::move(forces);
@@ -843,9 +845,6 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
   for (const Vec2& d : body_step) last_body_step_ = std::max(last_body_step_, d.norm());
   gravity_multiplier_ = gravity;
   traction_multiplier_ = traction;
-  energies_.internal = work_.internal;
-  energies_.external_work = work_.external;
-  energies_.contact_work = work_.contact;
 }
 
 LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
@@ -863,7 +862,7 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   const std::vector<Vec2> start_node_displacement = node_displacement_;
   const double start_body_step = last_body_step_;
   const double start_gravity = gravity_multiplier_, start_traction = traction_multiplier_;
-  const Work start_work = work_;
+  const Energies start_energies = energies_;
   const Vec2 start_reaction = boundary_reaction_;
   const double start_penetration = max_penetration_;
 
@@ -894,10 +893,7 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
       last_body_step_ = start_body_step;
       gravity_multiplier_ = start_gravity;
       traction_multiplier_ = start_traction;
-      work_ = start_work;
-      energies_.internal = work_.internal;
-      energies_.external_work = work_.external;
-      energies_.contact_work = work_.contact;
+      energies_ = start_energies;
       boundary_reaction_ = start_reaction;
       max_penetration_ = start_penetration;
       result.converged = false;
@@ -915,17 +911,6 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   return result;
 }
 
-void QuasiStaticSolver::set_settings(const Settings& settings) {
-  settings.validate();
-  if (settings.geometry != settings_.geometry ||
-      settings.shape_function != settings_.shape_function ||
-      settings.linear_solver != settings_.linear_solver)
-    throw InvalidValue("quasi-static settings", "a new geometry, shape function or linear solver",
-                       "those of the construction");
-  settings_ = settings;
-  threads_ = settings_.threads > 0 ? settings_.threads : omp_get_max_threads();
-}
-
 namespace {
 
 constexpr const char* kCornerPositions = "contact_corner_position_m";
@@ -933,7 +918,7 @@ constexpr const char* kCornerForces = "contact_tangential_force_N";
 constexpr const char* kCornerBodies = "contact_body";
 constexpr const char* kNodeDisplacements = "last_node_displacement_m";
 // gravity multiplier, traction multiplier, last body step [m], largest penetration [m],
-// boundary reaction x, y [N], work internal, external, contact [J]
+// boundary reaction x, y [N] (the work account is the run state's energies)
 constexpr const char* kLoad = "quasi_static_load";
 
 std::vector<double> flat(const std::vector<Vec2>& v) {
@@ -966,8 +951,7 @@ SolverRunState QuasiStaticSolver::run_state() const {
                          {kNodeDisplacements, flat(node_displacement_)},
                          {kLoad,
                           {gravity_multiplier_, traction_multiplier_, last_body_step_,
-                           max_penetration_, boundary_reaction_.x(), boundary_reaction_.y(),
-                           work_.internal, work_.external, work_.contact}}};
+                           max_penetration_, boundary_reaction_.x(), boundary_reaction_.y()}}};
   return state;
 }
 
@@ -993,7 +977,7 @@ void QuasiStaticSolver::restore_run_state(const SolverRunState& state) {
   const std::vector<double>& forces = array(kCornerForces, 2 * corners);
   const std::vector<double>& bodies = array(kCornerBodies, corners);
   const std::vector<double>& displacements = array(kNodeDisplacements, 2 * nodes);
-  const std::vector<double>& load = array(kLoad, 9);
+  const std::vector<double>& load = array(kLoad, 6);
   contact_history_.assign(corners, ContactHistory{});
   corner_position_.resize(corners);
   for (std::size_t c = 0; c < corners; ++c) {
@@ -1009,7 +993,6 @@ void QuasiStaticSolver::restore_run_state(const SolverRunState& state) {
   last_body_step_ = load[2];
   max_penetration_ = load[3];
   boundary_reaction_ = Vec2(load[4], load[5]);
-  work_ = Work{load[6], load[7], load[8]};
   energies_ = state.energies;
   body_forces_ = state.rigid_body_forces;
   time_ = state.time;

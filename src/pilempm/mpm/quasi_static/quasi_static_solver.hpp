@@ -148,13 +148,6 @@ struct LoadStepResult {
 /// and per surface part; a pile pushed into soil gets total.y() > 0.
 using BodyForce = RigidBodyForce;
 
-/// Work account [J], accumulated over the accepted steps (trapezoidal rule).
-struct Work {
-  double internal = 0.0;  ///< Σ V σ:Δε
-  double external = 0.0;  ///< gravity and tractions
-  double contact = 0.0;   ///< of the rigid bodies on the soil, Σ F_body · Δd_body
-};
-
 class QuasiStaticSolver final : public MpmState {
  public:
   /// Throws InvalidValue for bad settings, a missing material, a particle outside the grid or
@@ -184,7 +177,6 @@ class QuasiStaticSolver final : public MpmState {
   double traction_multiplier() const { return traction_multiplier_; }
   /// The sum of the accepted steps' durations: the load path's parameter [s].
   double pseudo_time() const { return time_; }
-  const Work& work() const { return work_; }
 
   const char* analysis() const override { return "quasi-static"; }
   Geometry geometry() const override { return settings_.geometry; }
@@ -194,17 +186,15 @@ class QuasiStaticSolver final : public MpmState {
   /// N g at the end of the last step [m/s^2].
   double gravity() const override { return settings_.gravity * gravity_multiplier_; }
   int threads() const override { return threads_; }
-  /// The work account as energies: no kinetic energy, no damping; contact_work is the work of
-  /// the bodies on the soil.
+  /// The work account [J], accumulated over the accepted steps (trapezoidal rule): internal
+  /// (Σ V σ:Δε), external (gravity and tractions) and contact_work (of the bodies on the soil,
+  /// Σ F_body · Δd_body); no kinetic energy, no damping.
   const Energies& energies() const override { return energies_; }
   const Grid& grid() const override { return grid_; }
   const Particles& particles() const override { return particles_; }
   Particles& particles() override { return particles_; }
   const std::vector<ModelPtr>& materials() const override { return materials_; }
   const Settings& settings() const { return settings_; }
-  /// Changes the settings between load steps (a new phase), validated; the geometry, the shape
-  /// function and the linear solver stay those of the construction.
-  void set_settings(const Settings& settings);
   /// Replaces material `index`; states are kept.
   void set_material(int index, ModelPtr model) override;
 
@@ -253,7 +243,6 @@ class QuasiStaticSolver final : public MpmState {
   double max_penetration_ = 0.0;
   double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, time_ = 0.0;
   long steps_ = 0;
-  Work work_;
   Energies energies_;
   std::vector<Vec2> node_displacement_;
   LinearSolver linear_solver_;
