@@ -3,10 +3,9 @@
 #include <sys/wait.h>
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "../support/files.hpp"
 
 namespace pilempm_test {
 
@@ -35,12 +34,6 @@ inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
   return r;
 }
 
-/// The whole text of a file ("" when it cannot be read).
-inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using pilempm::test_support::read_text;
 
 }  // namespace pilempm_test

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "../support/input_texts.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/io/element_case.hpp"
 
@@ -12,13 +13,7 @@ namespace pilempm {
 namespace {
 
 InputError case_error(const std::string& text) {
-  try {
-    parse_element_case(text, "case.toml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError for:\n" << text;
-  return InputError("", 0, "", "", "");
+  return test_support::input_error_of(text, [&] { (void)parse_element_case(text, "case.toml"); });
 }
 
 bool contains(const std::string& text, const std::string& part) {

@@ -10,6 +10,7 @@
 #include <sstream>
 #include <string>
 
+#include "../support/files.hpp"
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/element_output.hpp"
 #include "pilempm/io/element_run.hpp"
@@ -20,32 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder for one test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("pilempm-io-") + info->name() + "-" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test_support::read_text;
+using test_support::TestDir;
 
 std::vector<std::string> split(const std::string& line, char sep) {
   std::vector<std::string> parts;
@@ -92,7 +69,7 @@ class FailingModel final : public ConstitutiveModel {
 };
 
 TEST(AtomicWrite, WritesTheFileAndLeavesNoTmp) {
-  TempDir dir;
+  const TestDir dir("io");
   const fs::path file = dir.path() / "a.csv";
   write_file_atomically(file, "one\n");
   write_file_atomically(file, "two\n");
@@ -101,7 +78,7 @@ TEST(AtomicWrite, WritesTheFileAndLeavesNoTmp) {
 }
 
 TEST(AtomicWrite, FailureLeavesNothingBehind) {
-  TempDir dir;
+  const TestDir dir("io");
   // The "folder" of the target is a regular file: writing must fail cleanly.
   write_file_atomically(dir.path() / "plain", "x");
   EXPECT_THROW(write_file_atomically(dir.path() / "plain" / "a.csv", "y"), Error);
@@ -112,7 +89,7 @@ TEST(AtomicWrite, FailureLeavesNothingBehind) {
 }
 
 TEST(ElementOutput, TriaxialCurveHasUnitsInTheHeaderAndIsCompressionPositive) {
-  TempDir dir;
+  const TestDir dir("io");
   const ElementCaseFile file = small_case();
   const ElementRunRecord r =
       run_and_write(file.tests[0], dir.path() / "tx.csv", dir.path() / "tx.json");
@@ -159,7 +136,7 @@ TEST(ElementOutput, TriaxialCurveHasUnitsInTheHeaderAndIsCompressionPositive) {
 }
 
 TEST(ElementOutput, FailedRunDoesNotTouchExistingFiles) {
-  TempDir dir;
+  const TestDir dir("io");
   ElementCase c = small_case().tests[0];
   c.model = std::make_shared<FailingModel>();
   const fs::path curve = dir.path() / "tx.csv", summary = dir.path() / "tx.json";
@@ -174,7 +151,7 @@ TEST(ElementOutput, FailedRunDoesNotTouchExistingFiles) {
 }
 
 TEST(ElementOutput, CaseRunWritesEveryFileAndRecordsFailures) {
-  TempDir dir;
+  const TestDir dir("io");
   ElementCaseFile file = parse_element_case(R"(title = "two tests"
 [defaults]
 set = "original"
