@@ -155,12 +155,7 @@ std::string plate_case() {
   return "title = \"plate on an elastic block\"\n" +
          mpm_case_opening({.solver = "local_damping = 0.1\nthreads = 1\n"}) +
          linear_elastic_material_text("elastic", 10.0) +
-         mpm_region_text({.name = "block", .material = "elastic"}) + R"([[body]]
-name = "plate"
-kind = "polygon"
-vertices_m = [[0.3, 0.5], [0.7, 0.5], [0.7, 0.6], [0.3, 0.6]]
-interface_friction_angle_deg = 20.0
-[[phase]]
+         mpm_region_text({.name = "block", .material = "elastic"}) + kPlateBodyText + R"([[phase]]
 name = "push"
 duration_s = 1.0
 energy_interval_s = 0.01

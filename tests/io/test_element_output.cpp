@@ -11,6 +11,7 @@
 #include <string>
 
 #include "../support/files.hpp"
+#include "../support/refusing_model.hpp"
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/element_output.hpp"
 #include "pilempm/io/element_run.hpp"
@@ -55,18 +56,9 @@ steps = 200
 }
 
 // A model that fails on its first update.
-class FailingModel final : public ConstitutiveModel {
- public:
-  std::string name() const override { return "failing"; }
-  UpdateResult update(MaterialState&, const Vec6&) const override {
-    UpdateResult r;
-    r.ok = false;
-    r.message = "deliberate failure";
-    return r;
-  }
-  Mat6 tangent(const MaterialState&, const Vec6&) const override { return Mat6::Identity(); }
-  double wave_modulus(const MaterialState&) const override { return 1.0; }
-};
+ModelPtr failing_model() {
+  return std::make_shared<test_support::RefusingModel>("failing", "deliberate failure", 1.0);
+}
 
 TEST(AtomicWrite, WritesTheFileAndLeavesNoTmp) {
   const TestDir dir("io");
@@ -138,7 +130,7 @@ TEST(ElementOutput, TriaxialCurveHasUnitsInTheHeaderAndIsCompressionPositive) {
 TEST(ElementOutput, FailedRunDoesNotTouchExistingFiles) {
   const TestDir dir("io");
   ElementCase c = small_case().tests[0];
-  c.model = std::make_shared<FailingModel>();
+  c.model = failing_model();
   const fs::path curve = dir.path() / "tx.csv", summary = dir.path() / "tx.json";
   write_file_atomically(curve, "good old curve\n");
   write_file_atomically(summary, "{}\n");
@@ -174,7 +166,7 @@ sigma_v_kPa = [200, 50]
 steps_per_segment = 20
 )",
                                             "two.toml");
-  file.tests[1].model = std::make_shared<FailingModel>();
+  file.tests[1].model = failing_model();
   std::size_t started = 0, finished = 0;
   ElementRunObserver observer;
   observer.started = [&](std::size_t, std::size_t, const ElementCase&) { ++started; };

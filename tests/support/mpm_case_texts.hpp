@@ -78,6 +78,15 @@ inline std::string mpm_region_text(const MpmRegionText& r) {
          r.material + "\"\ninitial_stress = \"" + r.initial_stress + "\"\n";
 }
 
+/// A rigid plate 0.4 m wide and 0.1 m thick on the middle of the surface of a block 1 m wide and
+/// 0.5 m high ([[body]] "plate", interface friction angle 20°).
+inline const char* const kPlateBodyText = R"([[body]]
+name = "plate"
+kind = "polygon"
+vertices_m = [[0.3, 0.5], [0.7, 0.5], [0.7, 0.6], [0.3, 0.6]]
+interface_friction_angle_deg = 20.0
+)";
+
 // A plate pushed into an elastic block under a surcharge, then lifted; the second phase
 // switches to a stiffer set.
 inline std::string plate_into_block_case() {
@@ -87,12 +96,8 @@ inline std::string plate_into_block_case() {
 region = "block"
 side = "top"
 normal_kPa = 5.0
-[[body]]
-name = "plate"
-kind = "polygon"
-vertices_m = [[0.3, 0.5], [0.7, 0.5], [0.7, 0.6], [0.3, 0.6]]
-interface_friction_angle_deg = 20.0
-[[phase]]
+)" + kPlateBodyText +
+         R"([[phase]]
 name = "push"
 duration_s = 0.05
 output_interval_s = 0.025
