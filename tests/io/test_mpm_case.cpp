@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/files.hpp"
 #include "../support/input_texts.hpp"
 #include "../support/mpm_case_texts.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
@@ -192,16 +193,12 @@ TEST(MpmCase, HypoplasticGroundStartsAtItsScaledVoidRatioAndRuns) {
     EXPECT_GT(Hypoplastic::intergranular_strain(s).norm(), 0.0);
   }
 
-  const std::filesystem::path out =
-      std::filesystem::temp_directory_path() / ("pilempm-mpm-hypo-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(out);
+  const std::filesystem::path out = test_support::fresh_temp_path("mpm-hypo");
   const MpmRunSummary summary = run_mpm_case(c, out, nullptr);
   EXPECT_NEAR(summary.time, 0.002, 1e-12);
   ASSERT_EQ(summary.vtu_files.size(), 3u);  // t = 0, 0.001, 0.002
-  std::ifstream vtu(summary.vtu_files.back());
-  std::ostringstream text;
-  text << vtu.rdbuf();
-  EXPECT_NE(text.str().find("Name=\"igs_rho\""), std::string::npos);
+  const std::string vtu = test_support::read_text(summary.vtu_files.back());
+  EXPECT_NE(vtu.find("Name=\"igs_rho\""), std::string::npos);
   std::ifstream csv(summary.energies_file);
   std::string header;
   std::getline(csv, header);
@@ -546,9 +543,7 @@ TEST(MpmCase, AbsorbingSideTakesEnergyOutOfAMovingBlock) {
   text = replaced(text, "local_damping = 0.7\n", "");
   const MpmCase c = read_mpm_case_text(text, "case.toml");
   ASSERT_EQ(phase_settings(c, c.phases[0]).absorbing_boundaries.size(), 1u);
-  const std::filesystem::path out = std::filesystem::temp_directory_path() /
-                                    ("pilempm-mpm-absorbing-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(out);
+  const std::filesystem::path out = test_support::fresh_temp_path("mpm-absorbing");
   run_mpm_case(c, out, nullptr);
   std::ifstream csv(out / "energies.csv");
   std::string line, last;

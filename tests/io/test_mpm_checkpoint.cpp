@@ -21,6 +21,7 @@
 
 #include <fmt/format.h>
 
+#include "../support/files.hpp"
 #include "../support/mpm_case_texts.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/mpm_case.hpp"
@@ -116,12 +117,7 @@ bool has_temporary_file(const fs::path& file) {
   return false;
 }
 
-std::string read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+using test_support::read_text;  // the bytes of a file
 
 // Bitwise equality of two values (NaN included), with the first differing index in the message.
 template <class T>
@@ -406,7 +402,7 @@ TEST(MpmCheckpoint, DamagedOrForeignFileIsAnInputError) {
   const fs::path whole = temp_file("whole.h5");
   const fs::path cut = temp_file("cut.h5");
   write_mpm_checkpoint(whole, solver, sample_info(solver));
-  const std::string bytes = read_bytes(whole);
+  const std::string bytes = read_text(whole);
   std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   expect_rejected(cut, solver, cut.string());
   fs::remove(text);
@@ -425,7 +421,7 @@ TEST(MpmCheckpoint, FlippedBitsAreRefusedOrChangeNothing) {
   const fs::path whole = temp_file("flip-whole.h5");
   const fs::path damaged = temp_file("flip-damaged.h5");
   write_mpm_checkpoint(whole, written, info);
-  const std::string bytes = read_bytes(whole);
+  const std::string bytes = read_text(whole);
   std::uint64_t seed = 2025;
   const auto next = [&seed]() {  // a 64-bit linear congruential generator (Knuth's MMIX)
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -481,7 +477,7 @@ TEST(MpmCheckpoint, DamagedDatasetIsRefusedNamingIt) {
   run_steps(written, 5);
   const fs::path file = temp_file("stress-damaged.h5");
   write_mpm_checkpoint(file, written, sample_info(written));
-  std::string bytes = read_bytes(file);
+  std::string bytes = read_text(file);
   const Particles& p = written.particles();
   const std::size_t last = p.size() - 1;
   std::string needle(6 * sizeof(double), '\0');
