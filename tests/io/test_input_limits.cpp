@@ -15,7 +15,9 @@
 namespace pilempm {
 namespace {
 
-// A small plane-strain MPM case; line numbers below refer to it (line 1 is [geometry]).
+// A small plane-strain MPM case of 35 lines; line numbers below refer to it: [geometry] on line 1,
+// [[material]] on 17, [[region]] on 22 (its last line, initial_stress, on 31), [[phase]] on 32
+// and the phase's name on 33.
 std::string mpm_case() {
   using namespace test_support;
   return mpm_case_opening({.x_cells = 4, .y_cells = 4, .boundaries = "bottom = \"fixed\"\n"}) +

@@ -26,7 +26,8 @@ inline const char* const kRollerSidesFixedBase =
 inline const char* const kRollerRightFixedBase = "right = \"roller\"\nbottom = \"fixed\"\n";
 
 /// The opening tables of an MPM case: [geometry], a uniform grid from the origin ([grid.x] and
-/// [grid.y]), [boundaries] and [solver], with the lines of the last two as given.
+/// [grid.y]), [boundaries] and [solver], with the lines of the last two as given. By default a
+/// plane-strain box 1 m x 1 m of 10 x 10 cells with sliding sides and a fixed base, one thread.
 struct MpmCaseOpening {
   std::string geometry = "plane-strain";
   double x_max_m = 1.0;
@@ -54,9 +55,11 @@ inline std::string linear_elastic_material_text(const std::string& name, double 
          "poisson_ratio = " + toml_number(poisson_ratio) + "\n";
 }
 
-/// A [[region]] filled with particles: the rectangle [x_min, x_max] x [y_min, y_max] [m], its
-/// particles per cell and direction, density [kg/m^3], material and initial stress; no name line
-/// when the name is empty. The test adds any further keys of the region after it.
+/// A [[region]] filled with particles: the rectangle [x_min, x_max] x [y_min, y_max] [m], the
+/// particles per cell in each direction, density [kg/m^3], material and initial stress; no name
+/// line when the name is empty. By default a block 1 m wide and 0.5 m high on the base, 2 x 2
+/// particles per cell, 2000 kg/m^3, geostatic. The test adds any further keys of the region after
+/// it.
 struct MpmRegionText {
   std::string name = "";
   double x_min_m = 0.0;
