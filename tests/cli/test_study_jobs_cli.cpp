@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -23,6 +24,7 @@ namespace {
 using pilempm_test::read_text;
 using pilempm_test::Result;
 using pilempm_test::run_pilempm;
+using pilempm_test::run_shell;
 
 namespace fs = std::filesystem;
 
@@ -47,19 +49,6 @@ std::string quoted(const fs::path& path) {
   return "'" + path.string() + "'";
 }
 
-// A shell command line's output (stdout and stderr) and exit code.
-Result shell(const std::string& command) {
-  Result r;
-  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-  if (pipe == nullptr) return r;
-  char buffer[4096];
-  std::size_t n;
-  while ((n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0) r.output.append(buffer, n);
-  const int status = ::pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
 std::vector<std::string> split(const std::string& line, char separator) {
   std::vector<std::string> fields;
   std::istringstream in(line);
@@ -75,41 +64,32 @@ std::string join(const std::vector<std::string>& fields, char separator) {
   return line;
 }
 
-// summary.csv without the values of its column wall_time_s (the only one that differs between
-// two runs of a case); fails the test when the column is not there.
-std::string without_wall_time(const std::string& csv) {
-  std::istringstream in(csv);
+// `text` (CSV, or Markdown tables) with the cells below the header cell `name` blanked: the wall
+// time, the only thing that differs between two runs of a case. Fails the test when no line has
+// that header.
+std::string without_column(const std::string& text, char separator, const std::string& name) {
+  std::istringstream in(text);
   std::string line, out;
   std::size_t column = std::string::npos;
   while (std::getline(in, line)) {
-    std::vector<std::string> fields = split(line, ',');
-    if (column == std::string::npos && line.rfind('#', 0) != 0) {
-      for (std::size_t k = 0; k < fields.size(); ++k)
-        if (fields[k] == "wall_time_s") column = k;
-      EXPECT_NE(column, std::string::npos) << csv;
-    } else if (column < fields.size()) {
+    std::vector<std::string> fields = split(line, separator);
+    const auto header = std::find(fields.begin(), fields.end(), name);
+    if (header != fields.end())
+      column = static_cast<std::size_t>(header - fields.begin());
+    else if (column < fields.size())
       fields[column] = "(wall time)";
-    }
-    out += join(fields, ',') + "\n";
+    out += join(fields, separator) + "\n";
   }
+  EXPECT_NE(column, std::string::npos) << "no column " << name << " in\n" << text;
   return out;
 }
 
-// README.md without the cells of its column "wall time [s]".
+std::string without_wall_time(const std::string& summary_csv) {
+  return without_column(summary_csv, ',', "wall_time_s");
+}
+
 std::string readme_without_wall_time(const std::string& readme) {
-  std::istringstream in(readme);
-  std::string line, out;
-  std::size_t column = std::string::npos;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells = split(line, '|');
-    for (std::size_t k = 0; k < cells.size(); ++k)
-      if (cells[k] == " wall time [s] ") column = k;
-    if (line.rfind("| ", 0) == 0 && line.find("wall time") == std::string::npos &&
-        column < cells.size())
-      cells[column] = "(wall time)";
-    out += join(cells, '|') + "\n";
-  }
-  return out;
+  return without_column(readme, '|', " wall time [s] ");
 }
 
 // Every CSV file of the study's case folders (their path in the study folder: content), and
@@ -231,7 +211,7 @@ TEST_F(CentrifugeStudyJobsCli, RunsThatFailAreNamedWithExitCodeAndLogTheOthersFi
 // scripts/install-deps.sh, so there its absence fails the test; elsewhere (a build without
 // install-deps.sh) the test is skipped with a message saying how to install it.
 bool gnu_parallel_here(std::string& why) {
-  const Result version = shell("parallel --version");
+  const Result version = run_shell("parallel --version");
   if (version.exit_code == 0 && version.output.find("GNU parallel") != std::string::npos)
     return true;
   why = "GNU parallel is not installed (`parallel --version`: exit code " +
@@ -253,7 +233,7 @@ TEST_F(CentrifugeStudyJobsCli, GnuParallelRunsTheCommandListAndReportOnlyGathers
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("wrote 4 commands"), std::string::npos) << r.output;
   EXPECT_FALSE(fs::exists(out / "README.md"));  // nothing ran yet
-  r = shell("parallel --will-cite -j 2 < " + quoted(commands));
+  r = run_shell("parallel --will-cite -j 2 < " + quoted(commands));
   ASSERT_EQ(r.exit_code, 0) << r.output << read_text(commands);
   r = run_pilempm(study_flags() + " --report-only --out " + quoted(out), 120);
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -269,8 +249,8 @@ TEST_F(CentrifugeStudyJobsCli, ASlurmArrayTaskRunsItsOwnLineOfTheList) {
       study_flags() + " --out " + quoted(out) + " --write-commands " + quoted(commands), 120);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // docs/centrifuge.md's job script line, as task 3 of the array runs it.
-  r = shell("SLURM_ARRAY_TASK_ID=3 /bin/sh -c 'sed -n \"${SLURM_ARRAY_TASK_ID}p\" " +
-            commands.string() + " | bash'");
+  r = run_shell("SLURM_ARRAY_TASK_ID=3 /bin/sh -c 'sed -n \"${SLURM_ARRAY_TASK_ID}p\" " +
+                commands.string() + " | bash'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   for (const std::string& c : kCases)
     EXPECT_EQ(fs::exists(out / c / "summary.csv"), c == "igs3_small") << c;
