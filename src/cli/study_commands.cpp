@@ -1,7 +1,9 @@
 // `pilempm study ...`: the studies reproduced by one command. `calibration` runs the
 // calibration study of the Deltares report (element tests, analytical relations, the
 // stress-dependent alpha option) and writes its CSVs, figures and README.md into a folder;
-// `centrifuge` runs the centrifuge cases of examples/centrifuge/ and compares them.
+// `centrifuge` runs the centrifuge cases of examples/centrifuge/ (one after the other, --jobs N at
+// once as child processes, or written as a command list for GNU parallel or Slurm) and compares
+// them.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
@@ -103,7 +105,7 @@ std::filesystem::path this_program() {
   return path;
 }
 
-// --jobs, --write-commands and --report-only each say how the runs happen: one at a time.
+// --jobs, --write-commands and --report-only each say how the runs happen: at most one of them.
 void check_how_to_run(const CentrifugeStudyFlags& flags) {
   if (flags.jobs_given && flags.report_only)
     throw InputError("command line", 0, "--jobs", std::to_string(flags.jobs),

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -117,6 +118,24 @@ TEST_F(ProcessPool, FailedChildrenAreReportedTheOthersStillRunOutcomesInRunOrder
   EXPECT_FALSE(o[4].started);
   EXPECT_NE(o[4].problem.find("cannot write its log"), std::string::npos) << o[4].problem;
   EXPECT_TRUE(o[5].succeeded());
+}
+
+TEST_F(ProcessPool, AnExceptionOfTheCallbackComesWhenTheRunningChildrenHaveEnded) {
+  const auto later = [this](const std::string& name, const std::string& seconds) {
+    return shell(name, "sleep " + seconds + "; touch '" + (dir_ / (name + ".done")).string() + "'");
+  };
+  const std::vector<ChildRun> runs{later("first", "0"), later("second", "0.5"),
+                                   later("third", "0")};
+  int calls = 0;
+  EXPECT_THROW(run_children(runs, 2, {},
+                            [&calls](std::size_t, const ChildOutcome&) {
+                              ++calls;
+                              throw std::runtime_error("the callback failed");
+                            }),
+               std::runtime_error);
+  EXPECT_EQ(calls, 1);
+  EXPECT_TRUE(fs::exists(dir_ / "second.done"));  // ended before the exception came back
+  EXPECT_FALSE(fs::exists(dir_ / "third.done"));  // never started
 }
 
 TEST_F(ProcessPool, CommandLinesReadBackByAShellGiveTheSameArguments) {

@@ -258,6 +258,29 @@ ChildRun child_run(const CentrifugeStudyOptions& options, const std::filesystem:
 // from the run's summary.csv as it does for a run in this process.
 constexpr int kRunFailedItsChecks = 4;
 
+// A child run of case `file` finished: it ended with status 0 or kRunFailedItsChecks and wrote
+// its summary.csv.
+bool child_finished(const ChildOutcome& outcome, const std::filesystem::path& out_dir,
+                    const std::string& file) {
+  return outcome.started && (outcome.exit_code == 0 || outcome.exit_code == kRunFailedItsChecks) &&
+         std::filesystem::exists(out_dir / stem(file) / "summary.csv");
+}
+
+// ": head force X N, capacity Y N" from a run's summary.csv, with the number of its failed
+// checks; what went wrong when the file cannot be read.
+std::string summary_words(const std::filesystem::path& summary) {
+  try {
+    const NumericTable t = read_numeric_csv(summary);
+    const std::vector<CentrifugeCheck> failed = failed_checks(checks_of(t));
+    return fmt::format(
+        ": head force {} N, capacity {} N{}", cell(t, "installation_head_force_N", "{:.1f}"),
+        cell(t, "load_test_capacity_N", "{:.1f}"),
+        failed.empty() ? std::string() : fmt::format(", FAILED {} of its checks", failed.size()));
+  } catch (const Error& e) {
+    return fmt::format("; its summary cannot be read: {}", e.what());
+  }
+}
+
 // Runs the cases `to_run` (indices into `files`) as child processes, options.jobs at once, each
 // on one thread; a line per run as it ends. Returns the runs that did not finish, in case order.
 std::vector<CentrifugeStudyFailure> run_as_children(const CentrifugeStudyOptions& options,
@@ -284,26 +307,17 @@ std::vector<CentrifugeStudyFailure> run_as_children(const CentrifugeStudyOptions
     ++ended;
     run_seconds += outcome.wall_seconds;
     if (progress == nullptr) return;
-    const std::filesystem::path summary = out_dir / stem(runs[i].name) / "summary.csv";
-    const bool done = outcome.started &&
-                      (outcome.exit_code == 0 || outcome.exit_code == kRunFailedItsChecks) &&
-                      std::filesystem::exists(summary);
-    if (!done) {
-      *progress << fmt::format("study: {} did not finish: {} after {:.1f} s ({}/{}); its log: {}\n",
-                               runs[i].name, outcome.how_it_ended(), outcome.wall_seconds, ended,
-                               runs.size(), runs[i].log.string())
+    const std::string count = fmt::format("({}/{})", ended, runs.size());
+    if (!child_finished(outcome, out_dir, runs[i].name)) {
+      *progress << fmt::format("study: {} did not finish: {} after {:.1f} s {}; its log: {}\n",
+                               runs[i].name, outcome.how_it_ended(), outcome.wall_seconds, count,
+                               runs[i].log.string())
                 << std::flush;
       return;
     }
-    const NumericTable t = read_numeric_csv(summary);
-    const std::vector<CentrifugeCheck> failed = failed_checks(checks_of(t));
-    *progress << fmt::format(
-                     "study: {} done in {:.1f} s ({}/{}): head force {} N, capacity {} N{}\n",
-                     runs[i].name, outcome.wall_seconds, ended, runs.size(),
-                     cell(t, "installation_head_force_N", "{:.1f}"),
-                     cell(t, "load_test_capacity_N", "{:.1f}"),
-                     failed.empty() ? std::string()
-                                    : fmt::format(", FAILED {} of its checks", failed.size()))
+    *progress << fmt::format("study: {} done in {:.1f} s {}{}\n", runs[i].name,
+                             outcome.wall_seconds, count,
+                             summary_words(out_dir / stem(runs[i].name) / "summary.csv"))
               << std::flush;
   };
   const std::vector<ChildOutcome> outcomes =
@@ -315,12 +329,9 @@ std::vector<CentrifugeStudyFailure> run_as_children(const CentrifugeStudyOptions
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
         std::min<std::size_t>(runs.size(), options.jobs), run_seconds);
   std::vector<CentrifugeStudyFailure> unfinished;
-  for (std::size_t i = 0; i < runs.size(); ++i) {
-    const ChildOutcome& o = outcomes[i];
-    const bool ran = o.started && (o.exit_code == 0 || o.exit_code == kRunFailedItsChecks) &&
-                     std::filesystem::exists(out_dir / stem(runs[i].name) / "summary.csv");
-    if (!ran) unfinished.push_back({runs[i].name, {}, o.how_it_ended(), runs[i].log});
-  }
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    if (!child_finished(outcomes[i], out_dir, runs[i].name))
+      unfinished.push_back({runs[i].name, {}, outcomes[i].how_it_ended(), runs[i].log});
   return unfinished;
 }
 

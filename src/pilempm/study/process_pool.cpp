@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <chrono>
 #include <cstring>
+#include <exception>
 #include <map>
 #include <utility>
 
@@ -93,12 +94,20 @@ std::vector<ChildOutcome> run_children(
   std::vector<std::string> env = child_environment(environment);
   const std::size_t at_once = static_cast<std::size_t>(std::max(1, jobs));
   std::map<pid_t, std::pair<std::size_t, Clock::time_point>> running;
+  // After an exception of `finished` no child starts; it is thrown again when those running
+  // have ended (none is left behind).
+  std::exception_ptr error;
   const auto report = [&](std::size_t k) {
-    if (finished) finished(k, outcomes[k]);
+    if (!finished || error) return;
+    try {
+      finished(k, outcomes[k]);
+    } catch (...) {
+      error = std::current_exception();
+    }
   };
   std::size_t next = 0;
-  while (next < runs.size() || !running.empty()) {
-    while (next < runs.size() && running.size() < at_once) {
+  while ((next < runs.size() && !error) || !running.empty()) {
+    while (next < runs.size() && !error && running.size() < at_once) {
       const std::size_t k = next++;
       const Clock::time_point start = Clock::now();
       const pid_t pid = start_child(runs[k], env, outcomes[k].problem);
@@ -138,6 +147,7 @@ std::vector<ChildOutcome> run_children(
     }
     report(k);
   }
+  if (error) std::rethrow_exception(error);
   return outcomes;
 }
 

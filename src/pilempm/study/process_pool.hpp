@@ -34,7 +34,8 @@ struct ChildOutcome {
 /// `runs`. `environment` holds NAME=VALUE entries that replace or add to this process's
 /// environment in every child. `finished(index, outcome)` is called in this thread as each
 /// child ends, in the order they end; the returned outcomes are in the order of `runs`. A child
-/// that fails does not stop the others.
+/// that fails does not stop the others. An exception thrown by `finished` starts no more
+/// children and is thrown again once the running ones have ended.
 std::vector<ChildOutcome> run_children(
     const std::vector<ChildRun>& runs, int jobs, const std::vector<std::string>& environment,
     const std::function<void(std::size_t, const ChildOutcome&)>& finished = {});
