@@ -14,17 +14,10 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `pilempm ARGUMENTS` through the shell and collects its output and exit code. With
-/// `timeout_s` > 0 the program is stopped after that many seconds (killed 10 s later if need be)
-/// and the exit code is then 124. `shell_prefix` runs in the shell before it (e.g. a ulimit).
-inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
-                          const std::string& shell_prefix = "") {
-  const std::string limit =
-      timeout_s > 0 ? "timeout -k 10 " + std::to_string(timeout_s) + " " : std::string();
-  const std::string command =
-      shell_prefix + limit + std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
+/// Runs a shell command line and collects its output (stdout and stderr together) and exit code.
+inline Result run_shell(const std::string& command) {
   Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return r;
   char buffer[4096];
   std::size_t n;
@@ -32,6 +25,16 @@ inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
   const int status = ::pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+/// Runs `pilempm ARGUMENTS` through the shell and collects its output and exit code. With
+/// `timeout_s` > 0 the program is stopped after that many seconds (killed 10 s later if need be)
+/// and the exit code is then 124. `shell_prefix` runs in the shell before it (e.g. a ulimit).
+inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
+                          const std::string& shell_prefix = "") {
+  const std::string limit =
+      timeout_s > 0 ? "timeout -k 10 " + std::to_string(timeout_s) + " " : std::string();
+  return run_shell(shell_prefix + limit + std::string("'") + PILEMPM_BINARY + "' " + arguments);
 }
 
 using pilempm::test_support::read_text;
