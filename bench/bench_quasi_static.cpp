@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/quasi_static/footing_problem.hpp"
 #include "pilempm/mpm/quasi_static/load_path.hpp"
@@ -100,6 +101,7 @@ void apply_environment(Settings& settings) {
   if (const char* v = std::getenv("QS_PENALTY")) settings.contact.penalty_factor = std::atof(v);
   if (const char* v = std::getenv("QS_BBAR")) settings.volumetric_averaging = std::atoi(v) != 0;
   if (const char* v = std::getenv("QS_STEP_LIMIT")) settings.step_limit = std::atof(v);
+  if (const char* v = std::getenv("QS_FLOOR_STIFFNESS")) settings.floor_stiffness = std::atof(v);
 }
 
 // With QS_VERBOSE set: per sub-increment ||R||/F_ref, the energy norm, the line search's step
@@ -110,9 +112,9 @@ void print_iterations(const LoadStepResult& r) {
     std::printf("  fraction %.4f R0/F %.2e:", sub.fraction,
                 sub.initial_residual / sub.reference_force);
     for (const IterationRecord& it : sub.iterations)
-      std::printf(" %.1e/%.1e(%.2f;%d,%d,%d)", it.residual_norm / sub.reference_force,
+      std::printf(" %.1e/%.1e(%.2f;%d,%d,%d;f%d)", it.residual_norm / sub.reference_force,
                   it.energy_norm, it.line_search, it.contact_points, it.slipping_points,
-                  it.contact_changes);
+                  it.contact_changes, it.floor_particles);
     std::printf("\n");
   }
 }
@@ -161,6 +163,12 @@ int pile_curve(const char* path, const std::string& sand, int cells_per_d, int s
   problem.cells_per_d = cells_per_d;
   if (sand == "hypoplastic") {
     problem.model = pile_hypoplastic_sand();
+    if (const char* v = std::getenv("QS_P_MIN")) {
+      IntegratorSettings integrator;
+      integrator.min_mean_stress = std::atof(v);
+      problem.model = std::make_shared<Hypoplastic>(hypoplastic_set("modified-medium-dense"),
+                                                    intergranular_strain_set("IGS3"), integrator);
+    }
     problem.void_ratio = 0.68;
   } else if (const char* t = std::getenv("QS_TENSION_CUTOFF")) {
     MohrCoulombParameters mc =
@@ -170,12 +178,15 @@ int pile_curve(const char* path, const std::string& sand, int cells_per_d, int s
   } else {
     problem.model = pile_mohr_coulomb_sand();
   }
+  if (const char* v = std::getenv("QS_EMBEDMENT_D")) problem.embedment_in_d = std::atof(v);
   apply_environment(problem.settings);
   QuasiStaticSolver solver = problem.build();
   LoadStep geostatic;
   geostatic.gravity_multiplier = problem.gravity_multiplier;
-  if (!solver.solve_step(geostatic).converged) {
-    std::printf("the geostatic step failed\n");
+  const LoadStepResult first = solver.solve_step(geostatic);
+  print_iterations(first);
+  if (!first.converged) {
+    std::printf("the geostatic step failed: %s\n", first.message.c_str());
     return 1;
   }
   const double h = problem.diameter / cells_per_d;

@@ -162,5 +162,61 @@ TEST(QuasiStaticPile, LongMohrCoulombPushConvergesAndItsScatterIsBounded) {
   EXPECT_LT(std::max(coarse.largest_penetration, fine.largest_penetration), 0.1);
 }
 
+// A pile wished in place 2 D deep (no particle starts with its centre inside it) in its K0 state:
+// the corners of the particles next to it that start inside it are put on its surface, so the
+// geostatic step starts near equilibrium. The shaft then carries the sand's horizontal stress,
+// R ∫ K0 ρ N g z dz over the shaft's length per radian, and the base takes the sand's weight less
+// what the pile holds up. With hypoplastic sand the particles that reach the model's stress floor
+// keep a small elastic stiffness in the Newton matrix, so the step that follows (D/40 of push)
+// converges as well (docs/quasi-static.md, "Wished-in-place bodies").
+void check_wished_in_place(ModelPtr model, double void_ratio, const char* name) {
+  PileProblem problem;
+  problem.model = std::move(model);
+  problem.void_ratio = void_ratio;
+  problem.embedment_in_d = 2.0;
+  QuasiStaticSolver solver = problem.build();
+  LoadStep geostatic;
+  geostatic.gravity_multiplier = problem.gravity_multiplier;
+  const LoadStepResult first = solver.solve_step(geostatic);
+  ASSERT_TRUE(first.converged) << name << ": " << first.message;
+  const double g = problem.gravity_multiplier * problem.settings.gravity;
+  const double radius = 0.5 * problem.diameter;
+  const double shaft = problem.embedment_in_d * problem.diameter - radius * std::sqrt(3.0);
+  const double expected =
+      radius * problem.earth_pressure * problem.density * g * shaft * shaft / 2.0;
+  const RigidBodyForce& on_pile = solver.body_force(0);
+  const double radial = -on_pile.parts[1].x();  // the sand pushes the shaft toward the axis (−r)
+  double weight = 0.0;
+  for (std::size_t p = 0; p < solver.particles().size(); ++p)
+    weight += solver.particles().mass[p] * g;
+  std::printf(
+      "%s: geostatic step %d iterations, %d cuts; shaft radial force %.4f N/rad against "
+      "K0 %.4f; base %.4f, weight %.4f, pile %.4f N/rad; penetration %.3e cells\n",
+      name, first.iterations, first.cuts, radial, expected, solver.boundary_reaction().y(), weight,
+      on_pile.total.y(), solver.max_penetration() * problem.cells_per_d / problem.diameter);
+  EXPECT_LE(first.iterations, 8) << name;
+  EXPECT_EQ(first.cuts, 0) << name;
+  EXPECT_NEAR(radial, expected, 0.15 * expected) << name;
+  // The base carries the weight and what the sand holds the pile up with.
+  EXPECT_NEAR(solver.boundary_reaction().y() - on_pile.total.y(), weight, 1e-5 * weight) << name;
+  LoadStep push;
+  push.gravity_multiplier = problem.gravity_multiplier;
+  push.body_displacement = {Vec2(0.0, -problem.diameter / 40.0)};
+  const double before = on_pile.total.y();
+  const LoadStepResult pushed = solver.solve_step(push);
+  ASSERT_TRUE(pushed.converged) << name << ": " << pushed.message;
+  std::printf("%s: push D/40 %d iterations, %d cuts, pile force %.4f -> %.4f N/rad\n", name,
+              pushed.iterations, pushed.cuts, before, solver.body_force(0).total.y());
+  EXPECT_GT(solver.body_force(0).total.y(), before) << name;  // the sand resists the push
+}
+
+TEST(QuasiStaticPile, WishedInPlacePileStartsInEquilibriumWithMohrCoulombSand) {
+  check_wished_in_place(pile_mohr_coulomb_sand(), 0.7, "Mohr-Coulomb");
+}
+
+TEST(QuasiStaticPile, WishedInPlacePileStartsInEquilibriumWithHypoplasticSand) {
+  check_wished_in_place(pile_hypoplastic_sand(), 0.68, "hypoplastic");
+}
+
 }  // namespace
 }  // namespace pilempm::mpm::quasi_static

@@ -1,11 +1,11 @@
 #pragma once
 // A small axisymmetric pile-jacking problem for the quasi-static analysis: its verification
 // (tests/mpm) and its benchmark (bench/bench_quasi_static.cpp). A rigid pile of diameter D with a
-// 60° conical tip stands with its tip on the surface of a sand cylinder (radius `width_in_d` D,
-// height `height_in_d` D) at N g, from a K0 stress state; cells of D / `cells_per_d` (uniform),
-// 2 x 2 particles per cell, rollers on the outer side and the axis, fixed base. A hypoplastic
-// sand with intergranular strain starts with it fully mobilised by isotropic compression
-// (−R/√3 I), as the case files' default.
+// 60° conical tip stands with its tip on (or `embedment_in_d` D below) the surface of a sand
+// cylinder (radius `width_in_d` D, height `height_in_d` D) at N g, from a K0 stress state; cells of
+// D / `cells_per_d` (uniform), 2 x 2 particles per cell, rollers on the outer side and the axis,
+// fixed base. A hypoplastic sand with intergranular strain starts with it fully mobilised by
+// isotropic compression (−R/√3 I), as the case files' default.
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 
 namespace pilempm::mpm::quasi_static {
@@ -20,7 +20,10 @@ struct PileProblem {
   double earth_pressure = 0.5;  ///< K0
   double void_ratio = 0.7;
   double friction = 0.3;  ///< pile-sand μ
-  ModelPtr model;         ///< the sand
+  /// Depth of the tip below the surface at the start / D (0: on the surface). An embedded pile is
+  /// wished in place: no particle starts with its centre inside it.
+  double embedment_in_d = 0.0;
+  ModelPtr model;  ///< the sand
   /// Geometry is set to axisymmetric. Default: a Newton step limit of 0.1 cells (without it the
   /// Mohr-Coulomb push fails at 1.75 D, docs/quasi-static.md).
   Settings settings = default_settings();

@@ -20,6 +20,9 @@ namespace {
 // The Mandel components an in-plane problem uses, in the order of the 4-row B matrices.
 constexpr int kComponents[4] = {k11, k22, k33, k12};
 constexpr int kCorners = 4;
+// Poisson's ratio of the elastic stiffness that stands in for the tangent of a particle on the
+// model's stress floor (or whose perturbation leaves the model's domain).
+constexpr double kFallbackPoisson = 0.3;
 // The most nodes the particles of one cell reach together (volumetric averaging).
 constexpr int kMaxCellNodes = 36;
 using Mat4 = Eigen::Matrix4d;
@@ -119,6 +122,7 @@ void Settings::validate() const {
   positive(force_tolerance, "force_tolerance");
   positive(energy_tolerance, "energy_tolerance");
   positive(perturbation, "perturbation");
+  positive(floor_stiffness, "floor_stiffness");
   if (max_iterations < 1)
     throw InvalidValue("max_iterations", std::to_string(max_iterations), ">= 1");
   if (line_search_steps < 0)
@@ -180,6 +184,7 @@ struct QuasiStaticSolver::Trial {
   Eigen::VectorXd residual;                         // per unknown
   std::vector<Eigen::Triplet<double>> triplets;
   double reference_force = 0.0;
+  int floor_particles = 0;  // stress updates that ended on the model's mean stress floor
 };
 
 QuasiStaticSolver::QuasiStaticSolver(Grid grid, Particles particles,
@@ -227,6 +232,14 @@ int QuasiStaticSolver::add_rigid_body(RigidBody body) {
   if (body.axisymmetric() != axisymmetric)
     throw InvalidValue("rigid body", body.axisymmetric() ? "pile" : "polygon",
                        axisymmetric ? "a pile in axisymmetry" : "a polygon in plane strain");
+  // A body put where particles are (a pile wished in place) has the corners of the particles
+  // next to it inside it, up to half a particle deep: their penalty forces would be of the order
+  // of the modulus instead of the stress. Such contact points start on the surface instead, free
+  // of strain and force (as an initial overclosure is adjusted in finite element contact).
+  for (Vec2& corner : corner_position_) {
+    const SurfaceQuery hit = body.query(corner);
+    if (hit.distance < 0.0) corner -= hit.distance * hit.normal;
+  }
   BodyForce force;
   force.parts.assign(std::size_t(body.part_count()), Vec2::Zero());
   bodies_.push_back(std::move(body));
@@ -239,6 +252,15 @@ void QuasiStaticSolver::set_material(int index, ModelPtr model) {
     throw InvalidValue("material index", std::to_string(index),
                        fmt::format("[0, {}) and a model", materials_.size()));
   materials_[std::size_t(index)] = std::move(model);
+}
+
+void QuasiStaticSolver::fix_contact_modulus() {
+  contact_modulus_.assign(materials_.size(), 0.0);
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const std::size_t m = std::size_t(particles_.material[i]);
+    contact_modulus_[m] =
+        std::max(contact_modulus_[m], materials_[m]->wave_modulus(particles_.state[i]));
+  }
 }
 
 void QuasiStaticSolver::build_setup(StepSetup& setup) const {
@@ -386,13 +408,15 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
 
   // Kinematics, the stress from the converged state and the tangent, particle by particle.
   bool failed = false;
+  int floor_particles = 0;
   const TangentKind kind = settings_.tangent;
   // The strain components that vary (rows of B): plane strain has no 33.
   const int used_columns = axisymmetric ? 4 : 3;
   const int used_column[4] = {0, 1, axisymmetric ? 2 : 3, 3};
   const bool averaging = settings_.volumetric_averaging;
   const double normal_components = axisymmetric ? 3.0 : 2.0;
-#pragma omp parallel for schedule(static) num_threads(threads_) reduction(|| : failed)
+#pragma omp parallel for schedule(static) num_threads(threads_) reduction(|| : failed) \
+    reduction(+ : floor_particles)
   for (long i = 0; i < count; ++i) {
     const ParticleNodes& pn = setup.nodes[std::size_t(i)];
     Mat2 gradient = Mat2::Zero();
@@ -427,13 +451,32 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     if (spin != 0.0) rotate_state_about_z(rotated, spin, model.history_variables());
     MaterialState& state = trial.state[std::size_t(i)];
     state = rotated;
-    if (!model.update(state, strain).ok) {
+    const UpdateResult update = model.update(state, strain);
+    if (!update.ok) {
       failed = true;
       continue;
     }
+    if (update.mean_stress_floor_hits > 0) ++floor_particles;
     if (!tangent) continue;
     Mat4& d = trial.tangent[std::size_t(i)];
     d.setZero();
+    // On the stress floor the integrated update does not change with the strain (a zero
+    // derivative would leave the nodes such particles alone support without stiffness): a small
+    // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only.
+    const auto elastic_fallback = [&] {
+      const double m = settings_.floor_stiffness * model.wave_modulus(p.state[std::size_t(i)]);
+      const double shear = m * (1.0 - 2.0 * kFallbackPoisson) / (2.0 * (1.0 - kFallbackPoisson));
+      d.setZero();
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          if (axisymmetric || (r != 2 && c != 2))
+            d(r, c) = m - 2.0 * shear + (r == c ? 2.0 * shear : 0.0);
+      d(3, 3) = 2.0 * shear;
+    };
+    if (update.mean_stress_floor_hits > 0) {
+      elastic_fallback();
+      continue;
+    }
     const bool analytic =
         kind == TangentKind::elastic ||
         (kind == TangentKind::automatic && dynamic_cast<const LinearElastic*>(&model) != nullptr);
@@ -450,8 +493,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       Vec6 perturbed = strain;
       perturbed[kComponents[dc]] += h;
       MaterialState probe = rotated;
-      if (!model.update(probe, perturbed).ok) {
-        failed = true;
+      if (!model.update(probe, perturbed).ok) {  // a probe beyond the model's domain
+        elastic_fallback();
         break;
       }
       const Vec6 difference = (probe.stress - state.stress) / h;
@@ -459,6 +502,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     }
   }
   result.seconds_material += seconds_since(material_start);
+  trial.floor_particles = floor_particles;
   if (failed) return false;
 
   // Assembly: internal and external forces, the material stiffness.
@@ -538,8 +582,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     const ParticleNodes& pn = setup.nodes[std::size_t(i)];
     const Vec2& x = p.position[std::size_t(i)];
     const Vec2& l = p.half_size[std::size_t(i)];
-    const ConstitutiveModel& model = *materials_[std::size_t(p.material[std::size_t(i)])];
-    const double modulus = model.wave_modulus(p.state[std::size_t(i)]);
+    const double modulus = contact_modulus_[std::size_t(p.material[std::size_t(i)])];
     const double size = 2.0 * std::min(l.x(), l.y());
     for (int q = 0; q < kCorners; ++q) {
       // The corners are contact points that move with the particle's affine motion (material
@@ -748,6 +791,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       if (now.active != was.active || now.slip != was.slip) ++iteration_record.contact_changes;
     }
     trial = std::move(next);
+    iteration_record.floor_particles = trial.floor_particles;
     iteration_record.residual_norm = trial.residual.norm();
     iteration_record.energy_norm = std::abs(length * step.dot(trial.residual));
     iteration_record.line_search = length;
@@ -865,6 +909,7 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   const Energies start_energies = energies_;
   const Vec2 start_reaction = boundary_reaction_;
   const double start_penetration = max_penetration_;
+  if (contact_modulus_.empty()) fix_contact_modulus();
 
   double done = 0.0, size = 1.0;
   LoadStep remaining = load;
@@ -920,6 +965,7 @@ constexpr const char* kNodeDisplacements = "last_node_displacement_m";
 // gravity multiplier, traction multiplier, last body step [m], largest penetration [m],
 // boundary reaction x, y [N] (the work account is the run state's energies)
 constexpr const char* kLoad = "quasi_static_load";
+constexpr const char* kContactModulus = "contact_modulus_Pa";  // per material (empty: not fixed)
 
 std::vector<double> flat(const std::vector<Vec2>& v) {
   std::vector<double> out;
@@ -951,7 +997,8 @@ SolverRunState QuasiStaticSolver::run_state() const {
                          {kNodeDisplacements, flat(node_displacement_)},
                          {kLoad,
                           {gravity_multiplier_, traction_multiplier_, last_body_step_,
-                           max_penetration_, boundary_reaction_.x(), boundary_reaction_.y()}}};
+                           max_penetration_, boundary_reaction_.x(), boundary_reaction_.y()}},
+                         {kContactModulus, contact_modulus_}};
   return state;
 }
 
@@ -978,6 +1025,12 @@ void QuasiStaticSolver::restore_run_state(const SolverRunState& state) {
   const std::vector<double>& bodies = array(kCornerBodies, corners);
   const std::vector<double>& displacements = array(kNodeDisplacements, 2 * nodes);
   const std::vector<double>& load = array(kLoad, 6);
+  const auto modulus =
+      std::find_if(state.scheme_arrays.begin(), state.scheme_arrays.end(),
+                   [](const auto& named) { return named.first == kContactModulus; });
+  const bool fixed = modulus != state.scheme_arrays.end() && !modulus->second.empty();
+  contact_modulus_ = fixed ? array(kContactModulus, materials_.size()) : std::vector<double>{};
+  if (modulus == state.scheme_arrays.end()) array(kContactModulus, 0);  // throws: no array
   contact_history_.assign(corners, ContactHistory{});
   corner_position_.resize(corners);
   for (std::size_t c = 0; c < corners; ++c) {
