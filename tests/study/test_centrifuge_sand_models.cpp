@@ -1,0 +1,139 @@
+// The centrifuge run with sand of any model of the library (docs/centrifuge.md, "Sand of any
+// model"): a tiny model (R = 4 D, D/2 mesh, 1.5 D of installation, one thread) with Mohr-Coulomb
+// and with linear elastic sand runs every phase and passes the run's own checks (K0 stress,
+// equilibrium, kinetic energy, no sand in the pile or across the axis); the same elastic case on
+// the quasi-static analysis runs its phases with the head force equal to the container floor's
+// reaction less the sand's weight to the Newton tolerance.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/scenario/centrifuge/run_checks.hpp"
+#include "pilempm/study/centrifuge_run.hpp"
+
+namespace pilempm {
+namespace {
+
+using namespace scenario;
+namespace fs = std::filesystem;
+
+// The tiny model of the centrifuge run tests as a case file, with the sand's [[material]] and
+// [sand] table and any extra tables.
+std::string tiny_case(const std::string& sand, const std::string& extra = "") {
+  return sand + R"(
+[test]
+container_radius_D = 4.0
+sand_height_D = 8.0
+[installation]
+wished_in_place_D = 2.0
+depth_D = 1.5
+[mesh]
+cells_per_D = 2
+fine_radius_D = 2.0
+fine_depth_below_tip_D = 2.0
+headroom_D = 1.0
+)" + extra;
+}
+
+const char* const kMohrCoulombSand = R"(title = "tiny, Mohr-Coulomb sand"
+[[material]]
+name = "mc-sand"
+model = "mohr-coulomb"
+young_modulus_MPa = 150.0
+poisson_ratio = 0.31
+cohesion_kPa = 0.0
+friction_angle_deg = 33.0
+dilatancy_angle_deg = 5.0
+[sand]
+material = "mc-sand"
+e0 = 0.68
+)";
+
+const char* const kElasticSand = R"(title = "tiny, linear elastic sand"
+[[material]]
+name = "elastic-sand"
+model = "linear-elastic"
+young_modulus_MPa = 50.0
+poisson_ratio = 0.3
+[sand]
+material = "elastic-sand"
+e0 = 0.68
+[pile]
+interface_friction_angle_deg = 20.0
+)";
+
+struct Run {
+  CentrifugeSummary summary;
+  std::string summary_md, figures_json;
+};
+
+std::string file_text(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+Run run_tiny(const std::string& text, const std::string& name) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("pilempm-sand-" + name + "-" + std::to_string(::getpid()));
+  CentrifugeScenario s = read_centrifuge_case_text(text, name + ".toml");
+  s.threads = 1;
+  CentrifugeRunOptions options;
+  options.plots = false;
+  Run run;
+  run.summary = run_centrifuge(s, text, dir, nullptr, options);
+  run.summary_md = file_text(dir / "summary.md");
+  run.figures_json = file_text(dir / "figures.json");
+  std::error_code ec;
+  fs::remove_all(dir, ec);
+  return run;
+}
+
+void expect_every_phase_and_check(const Run& run) {
+  const CentrifugeSummary& r = run.summary;
+  for (const CentrifugeCheck& c : centrifuge_checks(r)) EXPECT_TRUE(c.passed) << c.text();
+  EXPECT_NEAR(r.installation_tip_depth_D, 3.5, 0.05);  // 2 D + 1.5 D of installation
+  EXPECT_GT(r.installation_head_force, 0.0);
+  EXPECT_GT(r.capacity, 0.0);  // the load test pushes the pile into the sand
+  EXPECT_NEAR(r.load_test_displacement_mm, 0.1 * 11.3, 1e-3);
+  EXPECT_GE(r.relaxation_travel_mm, 0.0);
+  EXPECT_LE(r.relaxation_travel_mm, 0.05 * 11.3 + 1e-6);
+}
+
+TEST(CentrifugeSandModels, MohrCoulombSandRunsEveryPhaseAndPassesItsChecks) {
+  const Run run = run_tiny(tiny_case(kMohrCoulombSand), "mohr-coulomb");
+  expect_every_phase_and_check(run);
+  EXPECT_NE(run.summary_md.find("material \"mc-sand\" (mohr-coulomb)"), std::string::npos)
+      << run.summary_md;
+  // The field figures show e, p and q; the intergranular strain is the hypoplastic model's.
+  EXPECT_EQ(run.figures_json.find("igs_rho"), std::string::npos);
+  EXPECT_NE(run.figures_json.find("void_ratio"), std::string::npos);
+}
+
+TEST(CentrifugeSandModels, LinearElasticSandRunsEveryPhaseAndPassesItsChecks) {
+  const Run run = run_tiny(tiny_case(kElasticSand), "linear-elastic");
+  expect_every_phase_and_check(run);
+  EXPECT_NE(run.summary_md.find("(linear-elastic)"), std::string::npos) << run.summary_md;
+}
+
+TEST(CentrifugeSandModels, ElasticSandRunsItsPhasesOnTheQuasiStaticAnalysis) {
+  const Run run =
+      run_tiny(tiny_case(kElasticSand,
+                         "[solver]\nanalysis = \"quasi-static\"\ndisplacement_step_D = 0.05\n"),
+               "quasi-static");
+  expect_every_phase_and_check(run);
+  const CentrifugeSummary& r = run.summary;
+  // No inertia: the head force is the floor's reaction less the sand's weight in every window,
+  // to far better than the explicit analysis's 2 % (the Newton tolerance is 1e-6 of the forces).
+  EXPECT_LT(r.equilibrium_error, 1e-3);
+  EXPECT_EQ(r.max_kinetic_to_work, 0.0);
+  EXPECT_NE(run.summary_md.find("quasi-static analysis"), std::string::npos) << run.summary_md;
+}
+
+}  // namespace
+}  // namespace pilempm
