@@ -1,9 +1,11 @@
 // The centrifuge run with sand of any model of the library (docs/centrifuge.md, "Sand of any
-// model"): a tiny model (R = 4 D, D/2 mesh, 1.5 D of installation, one thread) with Mohr-Coulomb
-// and with linear elastic sand runs every phase and passes the run's own checks (K0 stress,
-// equilibrium, kinetic energy, no sand in the pile or across the axis); the same elastic case on
-// the quasi-static analysis runs its phases with the head force equal to the container floor's
-// reaction less the sand's weight to the Newton tolerance.
+// model"), on a tiny model (R = 4 D, D/2 mesh, one thread): with Mohr-Coulomb sand, 1.5 D of
+// installation, relaxation and load test run and pass the run's own checks (K0 stress,
+// equilibrium, kinetic energy, no sand in the pile or across the axis); linear elastic sand does
+// the same over 0.75 D of installation (beyond about 1 D the sand that cannot yield around the
+// tip throws bursts of kinetic energy of 10 % of the pile's work, docs/centrifuge.md); and the
+// elastic case on the quasi-static analysis runs its phases with the head force equal to the
+// floor's reaction less the sand's weight to the Newton tolerance.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -25,14 +27,15 @@ namespace fs = std::filesystem;
 
 // The tiny model of the centrifuge run tests as a case file, with the sand's [[material]] and
 // [sand] table and any extra tables.
-std::string tiny_case(const std::string& sand, const std::string& extra = "") {
+std::string tiny_case(const std::string& sand, const std::string& installation,
+                      const std::string& extra = "") {
   return sand + R"(
 [test]
 container_radius_D = 4.0
 sand_height_D = 8.0
 [installation]
-wished_in_place_D = 2.0
-depth_D = 1.5
+)" + installation +
+         R"(
 [mesh]
 cells_per_D = 2
 fine_radius_D = 2.0
@@ -68,7 +71,7 @@ e0 = 0.68
 interface_friction_angle_deg = 20.0
 )";
 
-struct Run {
+struct TinyRun {
   CentrifugeSummary summary;
   std::string summary_md, figures_json;
 };
@@ -78,14 +81,14 @@ std::string file_text(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-Run run_tiny(const std::string& text, const std::string& name) {
+TinyRun run_tiny(const std::string& text, const std::string& name) {
   const fs::path dir =
       fs::temp_directory_path() / ("pilempm-sand-" + name + "-" + std::to_string(::getpid()));
   CentrifugeScenario s = read_centrifuge_case_text(text, name + ".toml");
   s.threads = 1;
   CentrifugeRunOptions options;
   options.plots = false;
-  Run run;
+  TinyRun run;
   run.summary = run_centrifuge(s, text, dir, nullptr, options);
   run.summary_md = file_text(dir / "summary.md");
   run.figures_json = file_text(dir / "figures.json");
@@ -94,10 +97,11 @@ Run run_tiny(const std::string& text, const std::string& name) {
   return run;
 }
 
-void expect_every_phase_and_check(const Run& run) {
+// Every phase ran to its end and every check that applies passed.
+void expect_every_phase_and_check(const TinyRun& run, double tip_depth_D) {
   const CentrifugeSummary& r = run.summary;
   for (const CentrifugeCheck& c : centrifuge_checks(r)) EXPECT_TRUE(c.passed) << c.text();
-  EXPECT_NEAR(r.installation_tip_depth_D, 3.5, 0.05);  // 2 D + 1.5 D of installation
+  EXPECT_NEAR(r.installation_tip_depth_D, tip_depth_D, 0.05);
   EXPECT_GT(r.installation_head_force, 0.0);
   EXPECT_GT(r.capacity, 0.0);  // the load test pushes the pile into the sand
   EXPECT_NEAR(r.load_test_displacement_mm, 0.1 * 11.3, 1e-3);
@@ -106,8 +110,10 @@ void expect_every_phase_and_check(const Run& run) {
 }
 
 TEST(CentrifugeSandModels, MohrCoulombSandRunsEveryPhaseAndPassesItsChecks) {
-  const Run run = run_tiny(tiny_case(kMohrCoulombSand), "mohr-coulomb");
-  expect_every_phase_and_check(run);
+  const TinyRun run = run_tiny(
+      tiny_case(kMohrCoulombSand, "wished_in_place_D = 2.0\ndepth_D = 1.5"), "mohr-coulomb");
+  expect_every_phase_and_check(run, 3.5);
+  EXPECT_TRUE(std::isfinite(run.summary.max_kinetic_to_work));  // the check applied
   EXPECT_NE(run.summary_md.find("material \"mc-sand\" (mohr-coulomb)"), std::string::npos)
       << run.summary_md;
   // The field figures show e, p and q; the intergranular strain is the hypoplastic model's.
@@ -116,21 +122,26 @@ TEST(CentrifugeSandModels, MohrCoulombSandRunsEveryPhaseAndPassesItsChecks) {
 }
 
 TEST(CentrifugeSandModels, LinearElasticSandRunsEveryPhaseAndPassesItsChecks) {
-  const Run run = run_tiny(tiny_case(kElasticSand), "linear-elastic");
-  expect_every_phase_and_check(run);
+  const TinyRun run = run_tiny(tiny_case(kElasticSand, "wished_in_place_D = 2.0\ndepth_D = 0.75"),
+                               "linear-elastic");
+  expect_every_phase_and_check(run, 2.75);
+  EXPECT_TRUE(std::isfinite(run.summary.equilibrium_error));  // the check applied
   EXPECT_NE(run.summary_md.find("(linear-elastic)"), std::string::npos) << run.summary_md;
 }
 
+// The pile starts at the sand surface: wished in place below it, the particle domains that reach
+// into the pile are pushed out by the quasi-static analysis's penalty contact in the K0 phase
+// (docs/centrifuge.md, "The quasi-static analysis").
 TEST(CentrifugeSandModels, ElasticSandRunsItsPhasesOnTheQuasiStaticAnalysis) {
-  const Run run =
-      run_tiny(tiny_case(kElasticSand,
+  const TinyRun run =
+      run_tiny(tiny_case(kElasticSand, "wished_in_place_D = 0.0\ndepth_D = 1.5",
                          "[solver]\nanalysis = \"quasi-static\"\ndisplacement_step_D = 0.05\n"),
                "quasi-static");
-  expect_every_phase_and_check(run);
+  expect_every_phase_and_check(run, 1.5);
   const CentrifugeSummary& r = run.summary;
   // No inertia: the head force is the floor's reaction less the sand's weight in every window,
   // to far better than the explicit analysis's 2 % (the Newton tolerance is 1e-6 of the forces).
-  EXPECT_LT(r.equilibrium_error, 1e-3);
+  EXPECT_LT(r.equilibrium_error, 1e-4);
   EXPECT_EQ(r.max_kinetic_to_work, 0.0);
   EXPECT_NE(run.summary_md.find("quasi-static analysis"), std::string::npos) << run.summary_md;
 }
