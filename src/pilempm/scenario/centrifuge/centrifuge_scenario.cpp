@@ -135,9 +135,9 @@ void validate(const CentrifugeScenario& s) {
     require(s.material_phi_c_deg > 0.0, "sand.material", s.material_phi_c_deg,
             "a built-in set or a [[material]] table of the file");
   if (!s.interface_friction_angle_deg && !(scenario_friction_angle_deg(s) > 0.0))
-    throw InvalidValue("pile.interface_friction_angle_deg", "(not given)",
-                       fmt::format("an angle in [0, 89] deg: material \"{}\" has no friction "
-                                   "angle to take 2/3 of",
+    throw InvalidValue("pile.interface_friction_angle_deg", "(missing)",
+                       fmt::format("given, in [0, 89] deg: the default 2/3 of the sand's friction "
+                                   "angle needs one, and material \"{}\" has no friction angle",
                                    s.installation_material));
   require(s.displacement_step_D > 0.0, "solver.displacement_step_D", s.displacement_step_D, "> 0");
 }
