@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/centrifuge_case_texts.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/core/error.hpp"
@@ -26,16 +27,8 @@ using namespace simulation;
 
 constexpr double kDegree = kPi / 180.0;
 
-const char* const kMohrCoulomb = R"(title = "Mohr-Coulomb sand"
-[[material]]
-name = "mc-sand"
-model = "mohr-coulomb"
-young_modulus_MPa = 150.0
-poisson_ratio = 0.31
-cohesion_kPa = 0.0
-friction_angle_deg = 33.0
-dilatancy_angle_deg = 5.0
-[sand]
+const std::string kMohrCoulomb = std::string("title = \"Mohr-Coulomb sand\"\n") +
+                                 test_support::kMohrCoulombSandMaterial + R"([sand]
 material = "mc-sand"
 e0 = 0.68
 [test]
@@ -234,20 +227,14 @@ TEST(CentrifugeCaseModels, QuasiStaticCaseWrittenAsMpmCaseReadsBackAsTheSameCase
     EXPECT_EQ(c->solver.mass_scaling, defaults.mass_scaling);
     EXPECT_EQ(c->solver.local_damping, defaults.local_damping);
   }
+  // What the text does not hold: the phases' damping and force averaging, the same defaults.
   ASSERT_EQ(read.phases.size(), typed.phases.size());
   for (std::size_t k = 0; k < typed.phases.size(); ++k) {
-    const MpmPhase &a = typed.phases[k], &b = read.phases[k];
-    EXPECT_EQ(a.name, b.name);
-    EXPECT_EQ(a.role, b.role);
-    EXPECT_EQ(a.kind, b.kind);
-    EXPECT_EQ(a.duration, b.duration);
-    EXPECT_EQ(a.energy_interval, b.energy_interval);
-    EXPECT_EQ(a.local_damping, b.local_damping);
-    EXPECT_EQ(a.stop_force_averaging, 0.0) << a.name;  // the relaxation bisects its load step
-    EXPECT_EQ(b.stop_force_averaging, 0.0) << b.name;
-    ASSERT_EQ(a.stop_rules.size(), b.stop_rules.size());
-    for (std::size_t r = 0; r < a.stop_rules.size(); ++r)
-      EXPECT_EQ(a.stop_rules[r].value, b.stop_rules[r].value);
+    SCOPED_TRACE(typed.phases[k].name);
+    EXPECT_EQ(typed.phases[k].local_damping, read.phases[k].local_damping);
+    // Relaxation ends by bisecting its load step, not on a moving average.
+    EXPECT_EQ(typed.phases[k].stop_force_averaging, 0.0);
+    EXPECT_EQ(read.phases[k].stop_force_averaging, 0.0);
   }
   // The K0 phase is one load step (recorded at its end).
   EXPECT_EQ(typed.phases.front().energy_interval, typed.phases.front().duration);

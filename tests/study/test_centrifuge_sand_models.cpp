@@ -15,6 +15,7 @@
 #include <iterator>
 #include <string>
 
+#include "../support/centrifuge_case_texts.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/scenario/centrifuge/run_checks.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
@@ -44,16 +45,8 @@ headroom_D = 1.0
 )" + extra;
 }
 
-const char* const kMohrCoulombSand = R"(title = "tiny, Mohr-Coulomb sand"
-[[material]]
-name = "mc-sand"
-model = "mohr-coulomb"
-young_modulus_MPa = 150.0
-poisson_ratio = 0.31
-cohesion_kPa = 0.0
-friction_angle_deg = 33.0
-dilatancy_angle_deg = 5.0
-[sand]
+const std::string kMohrCoulombSand = std::string("title = \"tiny, Mohr-Coulomb sand\"\n") +
+                                     test_support::kMohrCoulombSandMaterial + R"([sand]
 material = "mc-sand"
 e0 = 0.68
 )";
