@@ -39,7 +39,7 @@ struct CentrifugeScenario {
   std::string e0_at = "initial-stress";  ///< "initial-stress" or "zero-pressure" (hypoplastic)
   std::optional<double> density;         ///< [kg/m^3]; default ρ_d = G_s ρ_w / (1 + e0)
   double grain_density = 2650.0;         ///< G_s ρ_w [kg/m^3] (G_s = 2.65 assumed)
-  std::optional<double> K0;              ///< default 1 − sin φ_c of the installation set
+  std::optional<double> K0;              ///< default: the installation material's (scenario_K0)
   std::string igs = "IGS3";  ///< of hypoplastic sand; other models have no intergranular strain
   std::string installation_material = "original";  ///< the set of the K0 and installation phases
   std::string load_test_material;                  ///< "" = the installation set
