@@ -5,7 +5,8 @@
 // the same over 0.75 D of installation (beyond about 1 D the sand that cannot yield around the
 // tip throws bursts of kinetic energy of 10 % of the pile's work, docs/centrifuge.md); and the
 // elastic case on the quasi-static analysis runs its phases with the head force equal to the
-// floor's reaction less the sand's weight to the Newton tolerance.
+// floor's reaction less the sand's weight to the Newton tolerance, and the mpm_case.toml it writes
+// runs with `pilempm mpm run` to the same pile forces.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -17,6 +18,8 @@
 
 #include "../support/centrifuge_case_texts.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/io/mpm_case.hpp"
+#include "pilempm/io/mpm_output.hpp"
 #include "pilempm/scenario/centrifuge/run_checks.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 
@@ -67,6 +70,8 @@ interface_friction_angle_deg = 20.0
 struct TinyRun {
   CentrifugeSummary summary;
   std::string summary_md, figures_json;
+  // The rigid bodies' record of the run, and of `pilempm mpm run` of the mpm_case.toml it wrote.
+  std::string bodies_csv, rerun_bodies_csv;
 };
 
 std::string file_text(const fs::path& path) {
@@ -74,7 +79,7 @@ std::string file_text(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-TinyRun run_tiny(const std::string& text, const std::string& name) {
+TinyRun run_tiny(const std::string& text, const std::string& name, bool rerun = false) {
   const fs::path dir =
       fs::temp_directory_path() / ("pilempm-sand-" + name + "-" + std::to_string(::getpid()));
   CentrifugeScenario s = read_centrifuge_case_text(text, name + ".toml");
@@ -85,6 +90,11 @@ TinyRun run_tiny(const std::string& text, const std::string& name) {
   run.summary = run_centrifuge(s, text, dir, nullptr, options);
   run.summary_md = file_text(dir / "summary.md");
   run.figures_json = file_text(dir / "figures.json");
+  run.bodies_csv = file_text(dir / "mpm" / "bodies.csv");
+  if (rerun) {
+    (void)run_mpm_case(read_mpm_case(dir / "mpm_case.toml"), dir / "rerun", nullptr);
+    run.rerun_bodies_csv = file_text(dir / "rerun" / "bodies.csv");
+  }
   std::error_code ec;
   fs::remove_all(dir, ec);
   return run;
@@ -129,8 +139,11 @@ TEST(CentrifugeSandModels, ElasticSandRunsItsPhasesOnTheQuasiStaticAnalysis) {
   const TinyRun run =
       run_tiny(tiny_case(kElasticSand, "wished_in_place_D = 0.0\ndepth_D = 1.5",
                          "[solver]\nanalysis = \"quasi-static\"\ndisplacement_step_D = 0.05\n"),
-               "quasi-static");
+               "quasi-static", /*rerun=*/true);
   expect_every_phase_and_check(run, 1.5);
+  // The mpm_case.toml it wrote runs as the centrifuge run ran: the same pile forces, to the bit.
+  EXPECT_GT(run.bodies_csv.size(), 1000u);
+  EXPECT_EQ(run.rerun_bodies_csv, run.bodies_csv);
   const CentrifugeSummary& r = run.summary;
   // No inertia: the head force is the floor's reaction less the sand's weight in every window,
   // to far better than the explicit analysis's 2 % (the Newton tolerance is 1e-6 of the forces).
