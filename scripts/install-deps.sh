@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Installs the Debian 12 packages that pilempm needs to build, test and plot.
+# Installs the Debian 12 packages that pilempm needs to build, test and plot, and GNU parallel
+# (its test runs a study's command list with it).
 # Safe to run again; does nothing when everything is present. Needs root (or sudo).
 set -euo pipefail
 
@@ -11,6 +12,7 @@ packages=(
   libceres-dev libnlopt-cxx-dev
   libsuitesparse-dev
   python3-matplotlib
+  parallel  # GNU parallel: the command list of `pilempm study centrifuge --write-commands` (tested)
 )
 
 missing=()

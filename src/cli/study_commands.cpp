@@ -1,12 +1,15 @@
 // `pilempm study ...`: the studies reproduced by one command. `calibration` runs the
 // calibration study of the Deltares report (element tests, analytical relations, the
 // stress-dependent alpha option) and writes its CSVs, figures and README.md into a folder;
-// `centrifuge` runs the centrifuge cases of examples/centrifuge/ and compares them.
+// `centrifuge` runs the centrifuge cases of examples/centrifuge/ (one after the other, --jobs N at
+// once as child processes, or written as a command list for GNU parallel or Slurm) and compares
+// them.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -16,6 +19,7 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/study/calibration_study.hpp"
 #include "pilempm/study/centrifuge_study.hpp"
+#include "pilempm/study/process_pool.hpp"
 
 namespace pilempm::cli {
 
@@ -84,9 +88,57 @@ struct CentrifugeStudyFlags {
   bool quiet = false;
   bool overwrite = false;
   std::string python;
+  int jobs = 1;
+  bool jobs_given = false;
+  std::string write_commands;
 };
 
+// The pilempm program that runs: the child runs of the study start it again.
+std::filesystem::path this_program() {
+  std::error_code ec;
+  const std::filesystem::path path = std::filesystem::read_symlink("/proc/self/exe", ec);
+  if (ec)
+    throw Error(
+        fmt::format("cannot find the pilempm program for the study's runs "
+                    "(/proc/self/exe: {})",
+                    ec.message()));
+  return path;
+}
+
+// --jobs, --write-commands and --report-only each say how the runs happen: at most one of them.
+void check_how_to_run(const CentrifugeStudyFlags& flags) {
+  if (flags.jobs_given && flags.report_only)
+    throw InputError("command line", 0, "--jobs", std::to_string(flags.jobs),
+                     "not with --report-only, which runs nothing");
+  if (!flags.write_commands.empty() && flags.report_only)
+    throw InputError("command line", 0, "--write-commands", flags.write_commands,
+                     "not with --report-only: write the commands first, run them, then "
+                     "--report-only gathers their folders");
+  if (!flags.write_commands.empty() && flags.jobs_given)
+    throw InputError("command line", 0, "--jobs", std::to_string(flags.jobs),
+                     "not with --write-commands, which runs nothing (GNU parallel's -j says how "
+                     "many of the commands run at once)");
+}
+
+void write_centrifuge_study_commands_command(const CentrifugeStudyOptions& options,
+                                             const CentrifugeStudyFlags& flags) {
+  const std::size_t lines =
+      write_centrifuge_study_commands(options, flags.out, flags.write_commands);
+  const std::string groups = flags.groups.empty()
+                                 ? std::string()
+                                 : fmt::format(" --groups {}", fmt::join(flags.groups, ","));
+  fmt::print(
+      "wrote {} command{} (one run a line) to {}; their folders go to {}/, their output to "
+      "{}/logs/.\nRun them, e.g. `parallel -j 4 < {}` (GNU parallel; over ssh hosts with "
+      "--sshloginfile) or as a Slurm job array (`sed -n \"${{SLURM_ARRAY_TASK_ID}}p\" {} | "
+      "bash`), then gather them:\n  pilempm study centrifuge --out {} --cases {}{} --report-only\n",
+      lines, lines == 1 ? "" : "s", flags.write_commands, flags.out, flags.out,
+      shell_word(flags.write_commands), shell_word(flags.write_commands), shell_word(flags.out),
+      shell_word(flags.cases), groups);
+}
+
 void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
+  check_how_to_run(flags);
   CentrifugeStudyOptions options;
   options.cases_dir = flags.cases;
   options.groups = flags.groups;
@@ -94,6 +146,8 @@ void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
   options.report_only = flags.report_only;
   options.plots = !flags.no_plots;
   options.python = flags.python;
+  options.jobs = flags.jobs;
+  if (flags.jobs > 1 || !flags.write_commands.empty()) options.program = this_program();
   fmt::print(
       "pilempm study centrifuge: cases from {}/, groups {} -> {}/\n", flags.cases,
       flags.groups.empty() ? std::string("all") : fmt::format("{}", fmt::join(flags.groups, ", ")),
@@ -106,21 +160,62 @@ void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
     throw InputError("command line", 0, "--overwrite", "",
                      "not with --resume or --report-only, which use the runs in the folder");
   take_output_folder(flags.out, folder);
+  if (!flags.write_commands.empty()) {
+    write_centrifuge_study_commands_command(options, flags);
+    return;
+  }
   const std::vector<CentrifugeStudyFailure> failed =
       run_centrifuge_study(options, flags.out, flags.quiet ? nullptr : &std::cerr);
   fmt::print("done: the comparison is in {}/README.md\n", flags.out);
   if (failed.empty()) return;
-  std::string files;
+  std::string files, unfinished;
+  std::size_t runs_unfinished = 0;
   for (const CentrifugeStudyFailure& f : failed) {
     for (const std::string& check : f.checks) fmt::print("FAILED: {}: {}\n", f.file, check);
-    files += (files.empty() ? "" : ", ") + f.file;
+    if (!f.finished()) {
+      fmt::print("FAILED: {}: did not finish: {}; its log: {}\n", f.file, f.ended, f.log.string());
+      unfinished += fmt::format("{}{} ({}, log {})", unfinished.empty() ? "" : ", ", f.file,
+                                f.ended, f.log.string());
+      ++runs_unfinished;
+    } else {
+      files += (files.empty() ? "" : ", ") + f.file;
+    }
   }
   std::fflush(stdout);
+  if (runs_unfinished > 0)
+    throw Error(fmt::format(
+        "{} run{} of the study did not finish: {}; the other runs finished and {}/README.md "
+        "lists them all (rerun with --resume to run only what is missing)",
+        runs_unfinished, runs_unfinished == 1 ? "" : "s", unfinished, flags.out));
   throw ChecksFailed(fmt::format(
       "{} run{} of the study failed {} own checks ({}); the results are kept in {}/ and marked "
       "FAILED in {}/README.md",
       failed.size(), failed.size() == 1 ? "" : "s", failed.size() == 1 ? "its" : "their", files,
       flags.out, flags.out));
+}
+
+constexpr int kMinJobs = 1;
+constexpr int kMaxJobs = 1024;
+
+// --jobs: a whole number from kMinJobs to kMaxJobs; the message names the flag and the range.
+CLI::Validator jobs_range() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        const std::string shown = message_text(text);
+        std::size_t used = 0;
+        long value = 0;
+        try {
+          value = std::stol(text, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != text.size() || used == 0 || value < kMinJobs || value > kMaxJobs)
+          return fmt::format(
+              "the number of runs at once must be a whole number from {} to {}, not {}", kMinJobs,
+              kMaxJobs, shown);
+        return {};
+      },
+      "N");
 }
 
 }  // namespace
@@ -177,6 +272,18 @@ void register_study_commands(CLI::App& app) {
   centrifuge->add_flag("--report-only", centrifuge_flags->report_only,
                        "run nothing: write README.md and the figures of the runs that exist "
                        "(a group is drawn when all its runs exist)");
+  CLI::Option* jobs = centrifuge->add_option(
+      "--jobs", centrifuge_flags->jobs,
+      fmt::format("runs at once, each a child process on one thread (default 1: one after the "
+                  "other in this process, on the cores; {} to {})",
+                  kMinJobs, kMaxJobs));
+  jobs->check(jobs_range())->type_name("N");
+  centrifuge
+      ->add_option("--write-commands", centrifuge_flags->write_commands,
+                   "run nothing: write the runs as shell commands, one a line, into FILE for GNU "
+                   "parallel or a Slurm job array; then --report-only gathers them "
+                   "(docs/centrifuge.md)")
+      ->type_name("FILE");
   centrifuge->add_flag("--no-plots", centrifuge_flags->no_plots, "draw no PNG files");
   centrifuge->add_flag("--quiet", centrifuge_flags->quiet, "no progress lines on stderr");
   add_overwrite_flag(*centrifuge, centrifuge_flags->overwrite);
@@ -184,7 +291,10 @@ void register_study_commands(CLI::App& app) {
       ->add_option("--python", centrifuge_flags->python,
                    "Python interpreter with matplotlib for the figures")
       ->type_name("PATH");
-  centrifuge->callback([centrifuge_flags]() { run_centrifuge_study_command(*centrifuge_flags); });
+  centrifuge->callback([centrifuge_flags, jobs]() {
+    centrifuge_flags->jobs_given = jobs->count() > 0;
+    run_centrifuge_study_command(*centrifuge_flags);
+  });
 }
 
 }  // namespace pilempm::cli

@@ -3,10 +3,9 @@
 #include <sys/wait.h>
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
+
+#include "../support/files.hpp"
 
 namespace pilempm_test {
 
@@ -15,17 +14,10 @@ struct Result {
   std::string output;  // stdout and stderr together
 };
 
-/// Runs `pilempm ARGUMENTS` through the shell and collects its output and exit code. With
-/// `timeout_s` > 0 the program is stopped after that many seconds (killed 10 s later if need be)
-/// and the exit code is then 124. `shell_prefix` runs in the shell before it (e.g. a ulimit).
-inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
-                          const std::string& shell_prefix = "") {
-  const std::string limit =
-      timeout_s > 0 ? "timeout -k 10 " + std::to_string(timeout_s) + " " : std::string();
-  const std::string command =
-      shell_prefix + limit + std::string("'") + PILEMPM_BINARY + "' " + arguments + " 2>&1";
+/// Runs a shell command line and collects its output (stdout and stderr together) and exit code.
+inline Result run_shell(const std::string& command) {
   Result r;
-  FILE* pipe = ::popen(command.c_str(), "r");
+  FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
   if (pipe == nullptr) return r;
   char buffer[4096];
   std::size_t n;
@@ -35,12 +27,16 @@ inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
   return r;
 }
 
-/// The whole text of a file ("" when it cannot be read).
-inline std::string read_text(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+/// Runs `pilempm ARGUMENTS` through the shell and collects its output and exit code. With
+/// `timeout_s` > 0 the program is stopped after that many seconds (killed 10 s later if need be)
+/// and the exit code is then 124. `shell_prefix` runs in the shell before it (e.g. a ulimit).
+inline Result run_pilempm(const std::string& arguments, int timeout_s = 0,
+                          const std::string& shell_prefix = "") {
+  const std::string limit =
+      timeout_s > 0 ? "timeout -k 10 " + std::to_string(timeout_s) + " " : std::string();
+  return run_shell(shell_prefix + limit + std::string("'") + PILEMPM_BINARY + "' " + arguments);
 }
+
+using pilempm::test_support::read_text;
 
 }  // namespace pilempm_test

@@ -23,31 +23,12 @@
 
 namespace {
 
+using pilempm::test_support::TestDir;
 using pilempm_test::read_text;
 using pilempm_test::Result;
 using pilempm_test::run_pilempm;
 
 namespace fs = std::filesystem;
-
-// A folder of its own for one test, removed afterwards.
-class TestDir {
- public:
-  TestDir() {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() / (std::string("pilempm-centrifuge-cli-") + info->name() +
-                                         "-" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TestDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream out(path);
@@ -145,7 +126,7 @@ TEST(CentrifugeCli, CasePrintsTheMpmCaseOfTheQuickCase) {
 }
 
 TEST(CentrifugeCli, BadCaseFileIsAnErrorNamingTheFileTheLineAndTheKey) {
-  TestDir dir;
+  const TestDir dir("centrifuge-cli");
   const fs::path file = dir.path() / "bad.toml";
   write_text(file, "[sand]\ne0 = 0.68\ne0_at = \"initial-stress\"\n[mesh]\ncell_per_D = 8\n");
   const Result run = run_pilempm("centrifuge run '" + file.string() + "' --out '" +
@@ -191,7 +172,7 @@ bool inside_pile(double r_mm, double depth_mm, double tip_depth_mm, double margi
 // relaxed, load-tested over 0.1 D): one run, checked through its files. A few minutes on two
 // cores, hence Long.
 TEST(CentrifugeCli, LongQuickCaseRunWritesConsistentPileForcesFieldsAndSummary) {
-  TestDir dir;
+  const TestDir dir("centrifuge-cli");
   const fs::path out = dir.path() / "run";
   const Result r = run_pilempm("centrifuge run --out '" + out.string() + "' --quiet --no-plots");
   ASSERT_EQ(r.exit_code, 0) << r.output;

@@ -19,27 +19,9 @@ using pilempm_test::read_text;
 using pilempm_test::Result;
 using pilempm_test::run_pilempm;
 
+using pilempm::test_support::TestDir;
+
 namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("pilempm-cli-") + info->name() + "-" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  std::string operator/(const std::string& name) const { return (path_ / name).string(); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 // The number after "key": inside the object "object" of a JSON text (enough for our summaries).
 double json_number(const std::string& json, const std::string& object, const std::string& key) {
@@ -51,7 +33,7 @@ double json_number(const std::string& json, const std::string& object, const std
 }
 
 TEST(ElementCli, TriaxialExampleCommandWritesCurveAndSummary) {
-  TempDir dir;
+  const TestDir dir("cli");
   // Exactly the command of the issue (2000 steps by default).
   const Result r = run_pilempm(
       "element triaxial --set original --igs IGS3 --e0 0.567 --e0-at zero-pressure "
@@ -93,7 +75,7 @@ TEST(ElementCli, BadFlagValueNamesFlagValueAndRange) {
 }
 
 TEST(ElementCli, BadKeyInCaseFileNamesFileLineAndKey) {
-  TempDir dir;
+  const TestDir dir("cli");
   const std::string file = dir / "bad.toml";
   std::ofstream(file) << "[[test]]\nname = \"a\"\ntype = \"triaxial\"\nset = \"original\"\n"
                          "igs = \"IGS3\"\ne0 = 0.6\ne0_at = \"initial-stress\"\n"
@@ -106,7 +88,7 @@ TEST(ElementCli, BadKeyInCaseFileNamesFileLineAndKey) {
 }
 
 TEST(ElementCli, RunOnlyOneTestOfTheExampleCase) {
-  TempDir dir;
+  const TestDir dir("cli");
   const std::string example = std::string(PILEMPM_SOURCE_DIR) + "/examples/element_tests.toml";
   const Result r = run_pilempm("element run '" + example +
                                "' --only tx-dense-s3-50kPa-e0.59 --out '" + (dir / "out") + "'");
@@ -126,7 +108,7 @@ TEST(ElementCli, RunOnlyOneTestOfTheExampleCase) {
 
 // The whole built-in example case (about the study's full set of element tests).
 TEST(ElementCli, LongRunsTheWholeBuiltInCase) {
-  TempDir dir;
+  const TestDir dir("cli");
   const Result r = run_pilempm("element run --out '" + (dir / "out") + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string summary = read_text(dir / "out/summary.csv");

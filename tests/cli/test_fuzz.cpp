@@ -27,6 +27,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/files.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/element_case.hpp"
@@ -63,12 +64,7 @@ std::uint64_t base_seed() {
   return text != nullptr ? std::strtoull(text, nullptr, 10) : 20261203ULL;
 }
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using test_support::read_text;
 
 // Values that have broken programs before: extremes, non-numbers, empty and long text, control
 // characters, broken UTF-8, deep nesting.

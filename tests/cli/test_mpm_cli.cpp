@@ -3,6 +3,7 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include "../support/mpm_case_texts.hpp"
 #include "run_pilempm.hpp"
 
 #include <algorithm>
@@ -67,9 +68,7 @@ std::vector<double> data_array(const std::string& vtu, const std::string& name) 
 }
 
 TEST(MpmCli, ColumnExampleWritesSnapshotsEnergiesAndTheWeightOfTheColumn) {
-  const fs::path out =
-      fs::temp_directory_path() / ("pilempm-mpm-cli-" + std::to_string(::getpid()));
-  fs::remove_all(out);
+  const fs::path out = pilempm::test_support::fresh_temp_path("mpm-cli");
   const std::string example =
       std::string(PILEMPM_SOURCE_DIR) + "/examples/mpm/column_self_weight.toml";
   const Result r = run_pilempm("mpm run '" + example + "' --out '" + out.string() + "'");
@@ -151,47 +150,12 @@ TEST(MpmCli, ColumnExampleWritesSnapshotsEnergiesAndTheWeightOfTheColumn) {
 // An elastic block in plane strain with a rigid plate on its surface: the plate is pushed down
 // (with a velocity ramp) until it has moved 1 cm, which ends the first phase before its duration;
 // then it is lifted until the soil's force on it falls below 1 kN/m, which ends the second.
-const char* const kPlateCase = R"(title = "plate on an elastic block"
-[geometry]
-kind = "plane-strain"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 1.0
-cells = 10
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 1.0
-cells = 10
-[boundaries]
-left = "roller"
-right = "roller"
-bottom = "fixed"
-[solver]
-local_damping = 0.1
-threads = 1
-[[material]]
-name = "elastic"
-model = "linear-elastic"
-young_modulus_MPa = 10.0
-poisson_ratio = 0.3
-[[region]]
-name = "block"
-x_min_m = 0.0
-x_max_m = 1.0
-y_min_m = 0.0
-y_max_m = 0.5
-particles_per_cell = 2
-density_kg_per_m3 = 2000.0
-material = "elastic"
-initial_stress = "geostatic"
-[[body]]
-name = "plate"
-kind = "polygon"
-vertices_m = [[0.3, 0.5], [0.7, 0.5], [0.7, 0.6], [0.3, 0.6]]
-interface_friction_angle_deg = 20.0
-[[phase]]
+std::string plate_case() {
+  using namespace pilempm::test_support;
+  return "title = \"plate on an elastic block\"\n" +
+         mpm_case_opening({.solver = "local_damping = 0.1\nthreads = 1\n"}) +
+         linear_elastic_material_text("elastic", 10.0) +
+         mpm_region_text({.name = "block", .material = "elastic"}) + kPlateBodyText + R"([[phase]]
 name = "push"
 duration_s = 1.0
 energy_interval_s = 0.01
@@ -208,6 +172,7 @@ stop_force_y_below_N = 1000.0
 [phase.body.plate]
 velocity_y_m_per_s = 0.1
 )";
+}
 
 // The rows of a CSV file after its comment and header lines, split at commas.
 std::vector<std::vector<std::string>> csv_rows(const std::string& text, std::string* header) {
@@ -230,11 +195,9 @@ std::vector<std::vector<std::string>> csv_rows(const std::string& text, std::str
 }
 
 TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("pilempm-mpm-plate-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = pilempm::test_support::fresh_temp_path("mpm-plate");
   fs::create_directories(dir);
-  std::ofstream(dir / "plate.toml") << kPlateCase;
+  std::ofstream(dir / "plate.toml") << plate_case();
   const Result r = run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +
                                (dir / "out").string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -317,9 +280,7 @@ TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
 }
 
 TEST(MpmCli, BadCaseFileIsReportedWithFileLineAndKey) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("pilempm-mpm-bad-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
+  const fs::path dir = pilempm::test_support::fresh_temp_path("mpm-bad");
   fs::create_directories(dir);
   std::string text =
       read_text(std::string(PILEMPM_SOURCE_DIR) + "/examples/mpm/column_self_weight.toml");

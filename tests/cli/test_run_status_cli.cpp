@@ -28,10 +28,7 @@ bool contains(const std::string& text, const std::string& part) {
 class RunStatusCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pilempm-run-status-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
+    dir_ = pilempm::test_support::fresh_test_path("run-status");
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }

@@ -15,32 +15,15 @@
 
 namespace {
 
+using pilempm::test_support::TestDir;
 using pilempm_test::read_text;
 using pilempm_test::Result;
 using pilempm_test::run_pilempm;
 
 namespace fs = std::filesystem;
 
-class StudyDir {
- public:
-  StudyDir() {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("pilempm-study-cli-") + info->name() + "-" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-  }
-  ~StudyDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
 TEST(StudyCli, WithoutPythonItWarnsAndStillWritesEverythingElse) {
-  StudyDir dir;
+  const TestDir dir("study-cli", false);  // the command makes it
   const Result r = run_pilempm("study calibration --quick --python /nonexistent/python3 --out '" +
                                dir.path().string() + "'");
   ASSERT_EQ(r.exit_code, 0) << r.output;
@@ -65,7 +48,7 @@ TEST(StudyCli, OutIsRequiredAndABadFolderIsAnError) {
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
 
-  StudyDir dir;
+  const TestDir dir("study-cli", false);  // the command makes it
   fs::create_directories(dir.path());
   std::ofstream(dir.path() / "a-file") << "x";
   r = run_pilempm("study calibration --quick --no-plots --out '" +

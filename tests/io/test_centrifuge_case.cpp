@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "../support/input_texts.hpp"
+#include "../support/mpm_case_texts.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
@@ -52,22 +54,12 @@ fine_radius_D = 2.5
 fine_depth_below_tip_D = 3.0
 )";
 
-// The 1-based line of the first occurrence of `needle` in `text`.
-long line_of(const std::string& text, const std::string& needle) {
-  const auto at = text.find(needle);
-  EXPECT_NE(at, std::string::npos) << needle;
-  return 1 +
-         static_cast<long>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
-}
+using test_support::line_of;
+using test_support::replaced;
 
 InputError centrifuge_error_of(const std::string& text) {
-  try {
-    read_centrifuge_case_text(text, "centrifuge.toml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error for:\n" << text;
-  return InputError("", 0, "", "", "");
+  return test_support::input_error_of(
+      text, [&] { (void)read_centrifuge_case_text(text, "centrifuge.toml"); });
 }
 
 // Expects an InputError of centrifuge.toml at `needle`'s line (0: no line) whose message holds
@@ -482,40 +474,22 @@ TEST(CentrifugeCase, FewerParticlesOutsideTheFineZoneFillTheSameSand) {
 
 // A small axisymmetric case: a pile of radius 0.05 m (one cell) with its tip 0.1 m deep in an
 // elastic ground, pushed down; line numbers refer to this text.
-const char* const kPush = R"(title = "push"
-[geometry]
-kind = "axisymmetric"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.5
-cells = 10
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.7
-cells = 14
-[boundaries]
-right = "roller"
-bottom = "fixed"
-[solver]
-threads = 1
-[[material]]
-name = "ground"
-model = "linear-elastic"
-young_modulus_MPa = 10.0
-poisson_ratio = 0.3
-[[region]]
-name = "ground"
-x_min_m = 0.0
-x_max_m = 0.5
-y_min_m = 0.0
-y_max_m = 0.5
-particles_per_cell = 2
-density_kg_per_m3 = 1600.0
-material = "ground"
-initial_stress = "zero"
-[[body]]
+std::string push_case() {
+  using namespace test_support;
+  return "title = \"push\"\n" +
+         mpm_case_opening({.geometry = "axisymmetric",
+                           .x_max_m = 0.5,
+                           .x_cells = 10,
+                           .y_max_m = 0.7,
+                           .y_cells = 14,
+                           .boundaries = kRollerRightFixedBase}) +
+         linear_elastic_material_text("ground", 10.0) +
+         mpm_region_text({.name = "ground",
+                          .x_max_m = 0.5,
+                          .density_kg_per_m3 = 1600.0,
+                          .material = "ground",
+                          .initial_stress = "zero"}) +
+         R"([[body]]
 name = "pile"
 kind = "pile"
 radius_m = 0.05
@@ -531,53 +505,41 @@ stop_force_averaging_s = 0.004
 [phase.body.pile]
 velocity_y_m_per_s = -0.2
 )";
-
-std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
-  std::string out = text;
-  const auto at = out.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) out.replace(at, from.size(), to);
-  return out;
 }
 
 InputError mpm_error_of(const std::string& text) {
-  try {
-    read_mpm_case_text(text, "case.toml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error for:\n" << text;
-  return InputError("", 0, "", "", "");
+  return test_support::input_error_of(text, [&] { (void)read_mpm_case_text(text, "case.toml"); });
 }
 
 TEST(CentrifugeCase, StopForceAveragingGoesWithAForceStopRule) {
-  const MpmCase c = read_mpm_case_text(kPush, "case.toml");
+  const MpmCase c = read_mpm_case_text(push_case(), "case.toml");
   ASSERT_EQ(c.phases.size(), 1u);
   EXPECT_DOUBLE_EQ(c.phases[0].stop_force_averaging, 0.004);
   EXPECT_EQ(c.phases[0].stop_body, 0);
   // Without the key: the force of the last step.
-  const MpmCase plain =
-      read_mpm_case_text(replaced(kPush, "stop_force_averaging_s = 0.004\n", ""), "case.toml");
+  const MpmCase plain = read_mpm_case_text(
+      replaced(push_case(), "stop_force_averaging_s = 0.004\n", ""), "case.toml");
   EXPECT_DOUBLE_EQ(plain.phases[0].stop_force_averaging, 0.0);
   const MpmCase below = read_mpm_case_text(
-      replaced(kPush, "stop_force_y_above_N = 1e30", "stop_force_y_below_N = 0.0"), "case.toml");
+      replaced(push_case(), "stop_force_y_above_N = 1e30", "stop_force_y_below_N = 0.0"),
+      "case.toml");
   EXPECT_DOUBLE_EQ(below.phases[0].stop_force_averaging, 0.004);
 
   // Only with a force rule (a displacement rule is not one).
   const std::string displacement =
-      replaced(kPush, "stop_force_y_above_N = 1e30", "stop_displacement_y_m = -0.05");
+      replaced(push_case(), "stop_force_y_above_N = 1e30", "stop_displacement_y_m = -0.05");
   InputError e = mpm_error_of(displacement);
   EXPECT_EQ(e.line(), line_of(displacement, "stop_force_averaging_s"));
   EXPECT_NE(std::string(e.what()).find("phase[0].stop_force_averaging_s"), std::string::npos)
       << e.what();
   EXPECT_NE(std::string(e.what()).find("force stop rule"), std::string::npos) << e.what();
-  const std::string none = replaced(kPush, "stop_force_y_above_N = 1e30\n", "");
+  const std::string none = replaced(push_case(), "stop_force_y_above_N = 1e30\n", "");
   e = mpm_error_of(none);
   EXPECT_EQ(e.line(), line_of(none, "stop_force_averaging_s"));
 
   // Not negative.
   const std::string negative =
-      replaced(kPush, "stop_force_averaging_s = 0.004", "stop_force_averaging_s = -0.001");
+      replaced(push_case(), "stop_force_averaging_s = 0.004", "stop_force_averaging_s = -0.001");
   e = mpm_error_of(negative);
   EXPECT_EQ(e.line(), line_of(negative, "stop_force_averaging_s"));
   EXPECT_NE(std::string(e.what()).find("stop_force_averaging_s = -0.001"), std::string::npos)
@@ -596,7 +558,7 @@ TEST(CentrifugeCase, ForceStopRulesCompareTheMovingAverageOfTheForce) {
   // A rule met on every step (force below 1e30 N), so that stop_reason() reports the force it
   // compares after each step: the moving average with τ, or the last step's force without.
   const double tau = 0.004;
-  const std::string text = replaced(kPush, "stop_force_y_above_N", "stop_force_y_below_N");
+  const std::string text = replaced(push_case(), "stop_force_y_above_N", "stop_force_y_below_N");
   for (const bool averaged : {true, false}) {
     const MpmCase c = read_mpm_case_text(
         averaged ? text : replaced(text, "stop_force_averaging_s = 0.004\n", ""), "case.toml");

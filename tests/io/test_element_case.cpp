@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "../support/input_texts.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/io/element_case.hpp"
 
@@ -12,14 +13,18 @@ namespace pilempm {
 namespace {
 
 InputError case_error(const std::string& text) {
-  try {
-    parse_element_case(text, "case.toml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no InputError for:\n" << text;
-  return InputError("", 0, "", "", "");
+  return test_support::input_error_of(text, [&] { (void)parse_element_case(text, "case.toml"); });
 }
+
+// The first lines of a triaxial [[test]] "a" with its void ratio but not its convention (line 1
+// is [[test]]).
+const std::string kTriaxialTestA = R"([[test]]
+name = "a"
+type = "triaxial"
+set = "original"
+igs = "IGS3"
+e0 = 0.6
+)";
 
 bool contains(const std::string& text, const std::string& part) {
   return text.find(part) != std::string::npos;
@@ -157,13 +162,7 @@ TEST(ElementCase, ValidFileGivesTheTestsInSi) {
 }
 
 TEST(ElementCase, UnknownKeyInATestNamesFileLineAndFullKey) {
-  const InputError e = case_error(R"([[test]]
-name = "a"
-type = "triaxial"
-set = "original"
-igs = "IGS3"
-e0 = 0.6
-e0_at = "initial-stress"
+  const InputError e = case_error(kTriaxialTestA + R"(e0_at = "initial-stress"
 sigma3_kPa = 50
 axial_strain = 0.2
 stpes = 100
@@ -234,13 +233,7 @@ dilatancy_angle_deg = 35
 }
 
 TEST(ElementCase, MissingE0AtIsAnErrorListingBothConventions) {
-  const InputError e = case_error(R"([[test]]
-name = "a"
-type = "triaxial"
-set = "original"
-igs = "IGS3"
-e0 = 0.6
-sigma3_kPa = 50
+  const InputError e = case_error(kTriaxialTestA + R"(sigma3_kPa = 50
 axial_strain = 0.2
 )");
   EXPECT_EQ(e.line(), 1);

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "../support/files.hpp"
+#include "../support/refusing_model.hpp"
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/element_output.hpp"
 #include "pilempm/io/element_run.hpp"
@@ -20,32 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A fresh folder for one test, removed afterwards.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            (std::string("pilempm-io-") + info->name() + "-" + std::to_string(::getpid()));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path_, ignored);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test_support::read_text;
+using test_support::TestDir;
 
 std::vector<std::string> split(const std::string& line, char sep) {
   std::vector<std::string> parts;
@@ -78,21 +56,12 @@ steps = 200
 }
 
 // A model that fails on its first update.
-class FailingModel final : public ConstitutiveModel {
- public:
-  std::string name() const override { return "failing"; }
-  UpdateResult update(MaterialState&, const Vec6&) const override {
-    UpdateResult r;
-    r.ok = false;
-    r.message = "deliberate failure";
-    return r;
-  }
-  Mat6 tangent(const MaterialState&, const Vec6&) const override { return Mat6::Identity(); }
-  double wave_modulus(const MaterialState&) const override { return 1.0; }
-};
+ModelPtr failing_model() {
+  return std::make_shared<test_support::RefusingModel>("failing", "deliberate failure", 1.0);
+}
 
 TEST(AtomicWrite, WritesTheFileAndLeavesNoTmp) {
-  TempDir dir;
+  const TestDir dir("io");
   const fs::path file = dir.path() / "a.csv";
   write_file_atomically(file, "one\n");
   write_file_atomically(file, "two\n");
@@ -101,7 +70,7 @@ TEST(AtomicWrite, WritesTheFileAndLeavesNoTmp) {
 }
 
 TEST(AtomicWrite, FailureLeavesNothingBehind) {
-  TempDir dir;
+  const TestDir dir("io");
   // The "folder" of the target is a regular file: writing must fail cleanly.
   write_file_atomically(dir.path() / "plain", "x");
   EXPECT_THROW(write_file_atomically(dir.path() / "plain" / "a.csv", "y"), Error);
@@ -112,7 +81,7 @@ TEST(AtomicWrite, FailureLeavesNothingBehind) {
 }
 
 TEST(ElementOutput, TriaxialCurveHasUnitsInTheHeaderAndIsCompressionPositive) {
-  TempDir dir;
+  const TestDir dir("io");
   const ElementCaseFile file = small_case();
   const ElementRunRecord r =
       run_and_write(file.tests[0], dir.path() / "tx.csv", dir.path() / "tx.json");
@@ -159,9 +128,9 @@ TEST(ElementOutput, TriaxialCurveHasUnitsInTheHeaderAndIsCompressionPositive) {
 }
 
 TEST(ElementOutput, FailedRunDoesNotTouchExistingFiles) {
-  TempDir dir;
+  const TestDir dir("io");
   ElementCase c = small_case().tests[0];
-  c.model = std::make_shared<FailingModel>();
+  c.model = failing_model();
   const fs::path curve = dir.path() / "tx.csv", summary = dir.path() / "tx.json";
   write_file_atomically(curve, "good old curve\n");
   write_file_atomically(summary, "{}\n");
@@ -174,7 +143,7 @@ TEST(ElementOutput, FailedRunDoesNotTouchExistingFiles) {
 }
 
 TEST(ElementOutput, CaseRunWritesEveryFileAndRecordsFailures) {
-  TempDir dir;
+  const TestDir dir("io");
   ElementCaseFile file = parse_element_case(R"(title = "two tests"
 [defaults]
 set = "original"
@@ -197,7 +166,7 @@ sigma_v_kPa = [200, 50]
 steps_per_segment = 20
 )",
                                             "two.toml");
-  file.tests[1].model = std::make_shared<FailingModel>();
+  file.tests[1].model = failing_model();
   std::size_t started = 0, finished = 0;
   ElementRunObserver observer;
   observer.started = [&](std::size_t, std::size_t, const ElementCase&) { ++started; };

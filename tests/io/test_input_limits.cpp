@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "../support/input_texts.hpp"
+#include "../support/mpm_case_texts.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
@@ -13,49 +15,25 @@
 namespace pilempm {
 namespace {
 
-// A small plane-strain MPM case; line numbers below refer to it (line 1 is [geometry]).
-const char* const kMpmCase = R"([geometry]
-kind = "plane-strain"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 1.0
-cells = 4
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 1.0
-cells = 4
-[boundaries]
-bottom = "fixed"
-[solver]
-threads = 1
-[[material]]
-name = "soil"
-model = "linear-elastic"
-young_modulus_MPa = 10.0
-poisson_ratio = 0.3
-[[region]]
-name = "block"
-x_min_m = 0.0
-x_max_m = 1.0
-y_min_m = 0.0
-y_max_m = 0.5
-particles_per_cell = 2
-density_kg_per_m3 = 1800.0
-initial_stress = "zero"
-material = "soil"
-[[phase]]
+// A small plane-strain MPM case of 35 lines; line numbers below refer to it: [geometry] on line 1,
+// [[material]] on 17, [[region]] on 22 (its last line, initial_stress, on 31), [[phase]] on 32
+// and the phase's name on 33.
+std::string mpm_case() {
+  using namespace test_support;
+  return mpm_case_opening({.x_cells = 4, .y_cells = 4, .boundaries = "bottom = \"fixed\"\n"}) +
+         linear_elastic_material_text("soil", 10.0) +
+         mpm_region_text({.name = "block",
+                          .density_kg_per_m3 = 1800.0,
+                          .material = "soil",
+                          .initial_stress = "zero"}) +
+         R"([[phase]]
 name = "settle"
 duration_s = 0.01
 output_interval_s = 0.01
 )";
-
-std::string with(std::string text, const std::string& from, const std::string& to) {
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
 }
+
+using test_support::replaced;
 
 std::string mpm_error(const std::string& text) {
   try {
@@ -85,16 +63,16 @@ TEST(NumberRange, MagnitudesThatOverflowAfterConversionAreOutOfRange) {
 
 TEST(MpmInputLimits, TractionOf1e306KPaIsRefusedAtItsKey) {
   // 1e306 kPa is 1e309 Pa: infinite, formerly reported later as a NaN particle.
-  const std::string text = std::string(kMpmCase) +
-                           "[[traction]]\nregion = \"block\"\nside = \"top\"\nnormal_kPa = 1e306\n";
+  const std::string text =
+      mpm_case() + "[[traction]]\nregion = \"block\"\nside = \"top\"\nnormal_kPa = 1e306\n";
   const std::string message = mpm_error(text);
   EXPECT_TRUE(has(message, "case.toml:39: traction[0].normal_kPa = 1e+306")) << message;
 }
 
 TEST(MpmInputLimits, InitialVelocityOf1e300IsRefusedAtItsKey) {
   const std::string message =
-      mpm_error(with(kMpmCase, "material = \"soil\"\n[[phase]]",
-                     "material = \"soil\"\nvelocity_x_m_per_s = 1e300\n[[phase]]"));
+      mpm_error(replaced(mpm_case(), "initial_stress = \"zero\"\n[[phase]]",
+                         "initial_stress = \"zero\"\nvelocity_x_m_per_s = 1e300\n[[phase]]"));
   EXPECT_TRUE(has(message, "case.toml:32: region[0].velocity_x_m_per_s = 1e+300")) << message;
   EXPECT_TRUE(has(message, "in [-10000, 10000]")) << message;
 }
@@ -102,19 +80,19 @@ TEST(MpmInputLimits, InitialVelocityOf1e300IsRefusedAtItsKey) {
 TEST(MpmInputLimits, RegionWithoutParticlesIsRefusedNamingIt) {
   // Narrower than a particle's spacing: formerly "no finite wave speed ... in step 1 (0 m/s)".
   const std::string message =
-      mpm_error(with(kMpmCase, "x_max_m = 1.0\ny_min_m", "x_max_m = 0.01\ny_min_m"));
+      mpm_error(replaced(mpm_case(), "x_max_m = 1.0\ny_min_m", "x_max_m = 0.01\ny_min_m"));
   EXPECT_TRUE(has(message, "case.toml:22: region[0]")) << message;
   EXPECT_TRUE(has(message, "region \"block\" holds no particle")) << message;
 }
 
 TEST(MpmInputLimits, LongPhaseNameIsRefusedBeforeTheRun) {
   // A 300-character phase name ran the phase, then could not write its checkpoint.
-  const std::string message =
-      mpm_error(with(kMpmCase, "name = \"settle\"", "name = \"" + std::string(300, 'p') + "\""));
+  const std::string message = mpm_error(
+      replaced(mpm_case(), "name = \"settle\"", "name = \"" + std::string(300, 'p') + "\""));
   EXPECT_TRUE(has(message, "case.toml:33: phase[0].name")) << message;
   EXPECT_TRUE(has(message, "1 to 100 letters")) << message;
   EXPECT_LT(message.size(), 400u) << message;  // the value is cut
-  const std::string slash = mpm_error(with(kMpmCase, "name = \"block\"", "name = \"a/b\""));
+  const std::string slash = mpm_error(replaced(mpm_case(), "name = \"block\"", "name = \"a/b\""));
   EXPECT_TRUE(has(slash, "region[0].name")) << slash;
 }
 
@@ -147,7 +125,7 @@ TEST(CentrifugeInputLimits, CaseRefusesATinyJackingSpeedAtTheUsersKey) {
   // "mpm_case.toml:103 phase[1].duration_s", a file and key the user never wrote.
   (void)read_centrifuge_case_text(kCentrifugeCase, "user.toml");  // the base case is valid
   const std::string message = centrifuge_error(
-      with(kCentrifugeCase, "velocity_m_per_s = 0.025", "velocity_m_per_s = 5e-324"));
+      replaced(kCentrifugeCase, "velocity_m_per_s = 0.025", "velocity_m_per_s = 5e-324"));
   EXPECT_TRUE(has(message, "user.toml:9: installation.velocity_m_per_s = 5e-324")) << message;
   EXPECT_FALSE(has(message, "mpm_case.toml")) << message;
 }
@@ -155,8 +133,8 @@ TEST(CentrifugeInputLimits, CaseRefusesATinyJackingSpeedAtTheUsersKey) {
 TEST(CentrifugeInputLimits, CaseChecksWhatTheMpmCaseWouldRefuse) {
   // 20 km/s passes the centrifuge file's own check (> 0) but not the MPM case's speed limit:
   // the message names the user's file.
-  const std::string message =
-      centrifuge_error(with(kCentrifugeCase, "velocity_m_per_s = 0.025", "velocity_m_per_s = 2e4"));
+  const std::string message = centrifuge_error(
+      replaced(kCentrifugeCase, "velocity_m_per_s = 0.025", "velocity_m_per_s = 2e4"));
   EXPECT_TRUE(has(message, "user.toml")) << message;
   EXPECT_TRUE(has(message, "MPM case that is not valid")) << message;
 }

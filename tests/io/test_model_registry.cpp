@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "../support/mpm_case_texts.hpp"
 #include "path_length_elastic/path_length_elastic.hpp"
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
@@ -92,44 +93,31 @@ TEST(ModelRegistry, ATestModelRunsInAnElementTest) {
   EXPECT_NEAR(PathLengthElastic::path_length(state), 20 * d1.norm() + 10 * d2.norm(), 1e-15);
 }
 
-const char* const kMpmCase = R"(
-[geometry]
-kind = "plane-strain"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.4
-cells = 4
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.6
-cells = 6
-[boundaries]
-right = "roller"
-bottom = "fixed"
-[solver]
-gravity_multiplier = 20.0
-local_damping = 0.1
-threads = 1
-[[material]]
+// A ground of the test model under 20 g, settling.
+std::string toy_ground_case() {
+  using namespace test_support;
+  return mpm_case_opening(
+             {.x_max_m = 0.4,
+              .x_cells = 4,
+              .y_max_m = 0.6,
+              .y_cells = 6,
+              .boundaries = kRollerRightFixedBase,
+              .solver = "gravity_multiplier = 20.0\nlocal_damping = 0.1\nthreads = 1\n"}) +
+         R"([[material]]
 name = "toy"
 model = "path-length-elastic"
 shear_modulus_MPa = 30
 bulk_modulus_MPa = 50
-[[region]]
-x_min_m = 0.0
-x_max_m = 0.4
-y_min_m = 0.0
-y_max_m = 0.5
-particles_per_cell = 2
-density_kg_per_m3 = 1600.0
-material = "toy"
-initial_stress = "zero"
-[[phase]]
+)" +
+         mpm_region_text({.x_max_m = 0.4,
+                          .density_kg_per_m3 = 1600.0,
+                          .material = "toy",
+                          .initial_stress = "zero"}) +
+         R"([[phase]]
 duration_s = 1.0
 output_interval_s = 1.0
 )";
+}
 
 bool same_histories(const mpm::Particles& a, const mpm::Particles& b) {
   for (std::size_t i = 0; i < a.size(); ++i)
@@ -142,7 +130,7 @@ bool same_histories(const mpm::Particles& a, const mpm::Particles& b) {
 // The model's history variable goes through a checkpoint by the name the model declares: a
 // fresh solver of the same case (history zero) gets it back bitwise, and both continue alike.
 TEST(ModelRegistry, ATestModelsHistoryGoesThroughACheckpoint) {
-  const MpmCase mpm_case = read_mpm_case_text(kMpmCase, "toy.toml");
+  const MpmCase mpm_case = read_mpm_case_text(toy_ground_case(), "toy.toml");
   mpm::Solver run = make_mpm_solver(mpm_case);
   for (int k = 0; k < 30; ++k) run.step();  // the sand settles under 20 g
   double largest = 0.0;

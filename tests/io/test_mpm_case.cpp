@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include "../support/files.hpp"
+#include "../support/input_texts.hpp"
 #include "../support/mpm_case_texts.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
@@ -30,22 +32,15 @@ using namespace simulation;
 // Line numbers below refer to this text (line 1 is `title`).
 const char* const kCase = test_support::kMohrCoulombCase;
 
+using test_support::line_of;
+using test_support::replaced;
+
 std::string with(const std::string& from, const std::string& to) {
-  std::string text = kCase;
-  const auto at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  text.replace(at, from.size(), to);
-  return text;
+  return replaced(kCase, from, to);
 }
 
 InputError error_of(const std::string& text) {
-  try {
-    read_mpm_case_text(text, "case.toml");
-  } catch (const InputError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "no error";
-  return InputError("", 0, "", "", "");
+  return test_support::input_error_of(text, [&] { (void)read_mpm_case_text(text, "case.toml"); });
 }
 
 TEST(MpmCase, ValidCaseReadsIntoSiValues) {
@@ -159,45 +154,28 @@ TEST(MpmCase, MissingPhaseIsAnError) {
 // A hypoplastic ground with intergranular strain in axisymmetry: e0 given at zero pressure is
 // scaled to each particle's geostatic mean stress by Bauer's law, the IGS starts fully mobilised,
 // and a short run writes igs_rho and the per-radian energy header.
-const char* const kHypoplasticCase = R"(
-[geometry]
-kind = "axisymmetric"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.4
-cells = 4
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.6
-cells = 6
-[boundaries]
-right = "roller"
-bottom = "fixed"
-[solver]
-gravity_multiplier = 50.0
-local_damping = 0.5
-threads = 1
-[[region]]
-x_min_m = 0.0
-x_max_m = 0.4
-y_min_m = 0.0
-y_max_m = 0.5
-particles_per_cell = 2
-density_kg_per_m3 = 1600.0
-material = "original"
-igs = "IGS1"
-initial_stress = "geostatic"
+std::string hypoplastic_case() {
+  using namespace test_support;
+  return mpm_case_opening(
+             {.geometry = "axisymmetric",
+              .x_max_m = 0.4,
+              .x_cells = 4,
+              .y_max_m = 0.6,
+              .y_cells = 6,
+              .boundaries = kRollerRightFixedBase,
+              .solver = "gravity_multiplier = 50.0\nlocal_damping = 0.5\nthreads = 1\n"}) +
+         mpm_region_text({.x_max_m = 0.4, .density_kg_per_m3 = 1600.0, .material = "original"}) +
+         R"(igs = "IGS1"
 e0 = 0.9
 e0_at = "zero-pressure"
 [[phase]]
 duration_s = 0.002
 output_interval_s = 0.001
 )";
+}
 
 TEST(MpmCase, HypoplasticGroundStartsAtItsScaledVoidRatioAndRuns) {
-  const MpmCase c = read_mpm_case_text(kHypoplasticCase, "hypo.toml");
+  const MpmCase c = read_mpm_case_text(hypoplastic_case(), "hypo.toml");
   const MpmRegion& r = c.regions.at(0);
   EXPECT_EQ(r.material.model, "hypoplastic");
   EXPECT_NEAR(r.K0, 1.0 - std::sin(r.material.hypoplastic().phi_c_deg * kPi / 180.0), 1e-12);
@@ -215,16 +193,12 @@ TEST(MpmCase, HypoplasticGroundStartsAtItsScaledVoidRatioAndRuns) {
     EXPECT_GT(Hypoplastic::intergranular_strain(s).norm(), 0.0);
   }
 
-  const std::filesystem::path out =
-      std::filesystem::temp_directory_path() / ("pilempm-mpm-hypo-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(out);
+  const std::filesystem::path out = test_support::fresh_temp_path("mpm-hypo");
   const MpmRunSummary summary = run_mpm_case(c, out, nullptr);
   EXPECT_NEAR(summary.time, 0.002, 1e-12);
   ASSERT_EQ(summary.vtu_files.size(), 3u);  // t = 0, 0.001, 0.002
-  std::ifstream vtu(summary.vtu_files.back());
-  std::ostringstream text;
-  text << vtu.rdbuf();
-  EXPECT_NE(text.str().find("Name=\"igs_rho\""), std::string::npos);
+  const std::string vtu = test_support::read_text(summary.vtu_files.back());
+  EXPECT_NE(vtu.find("Name=\"igs_rho\""), std::string::npos);
   std::ifstream csv(summary.energies_file);
   std::string header;
   std::getline(csv, header);
@@ -233,7 +207,7 @@ TEST(MpmCase, HypoplasticGroundStartsAtItsScaledVoidRatioAndRuns) {
 }
 
 TEST(MpmCase, PhaseMaterialsSwitchHypoplasticSetsAndKeepTheRegionsIgs) {
-  std::string text = kHypoplasticCase;
+  std::string text = hypoplastic_case();
   text +=
       "[[phase]]\nduration_s = 0.001\n[phase.materials]\noriginal = \"modified-medium-dense\"\n";
   const MpmCase c = read_mpm_case_text(text, "hypo.toml");
@@ -257,23 +231,7 @@ TEST(MpmCase, RegionOutsideTheGridIsAnError) {
   EXPECT_NE(message.find("(-1, 1]"), std::string::npos) << message;
 }
 
-using test_support::kPileCase;
-
-std::string replaced(const std::string& text, const std::string& from, const std::string& to) {
-  std::string out = text;
-  const auto at = out.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  if (at != std::string::npos) out.replace(at, from.size(), to);
-  return out;
-}
-
-// The 1-based line of the first occurrence of `needle` in `text`.
-long line_of(const std::string& text, const std::string& needle) {
-  const auto at = text.find(needle);
-  EXPECT_NE(at, std::string::npos) << needle;
-  return 1 +
-         static_cast<long>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n'));
-}
+using test_support::pile_case;
 
 // Expects an InputError at `needle`'s line whose message holds each of `parts`.
 void expect_error(const std::string& text, const std::string& needle,
@@ -288,7 +246,7 @@ void expect_error(const std::string& text, const std::string& needle,
 }
 
 TEST(MpmCase, PileCaseReadsBodiesMotionsStopRulesMaterialsAndLoads) {
-  const MpmCase c = read_mpm_case_text(kPileCase, "case.toml");
+  const MpmCase c = read_mpm_case_text(pile_case(), "case.toml");
   ASSERT_EQ(c.bodies.size(), 1u);
   const MpmBody& b = c.bodies[0];
   EXPECT_EQ(b.name, "pile");
@@ -360,7 +318,7 @@ TEST(MpmCase, PileCaseReadsBodiesMotionsStopRulesMaterialsAndLoads) {
 }
 
 TEST(MpmCase, BodyKeysAreCheckedWithLineKeyValueAndRange) {
-  const std::string pile = kPileCase;
+  const std::string pile = pile_case();
   expect_error(
       replaced(pile, "interface_friction_angle_deg = 20.0", "interface_friction_angle_deg = 90.0"),
       "interface_friction_angle_deg", {"body[0].interface_friction_angle_deg = 90:", "[0, 90)"});
@@ -384,7 +342,7 @@ TEST(MpmCase, BodyKeysAreCheckedWithLineKeyValueAndRange) {
 
   // Polygons belong to plane strain, with at least three convex corners.
   const std::string plane =
-      replaced(replaced(kPileCase, "kind = \"axisymmetric\"", "kind = \"plane-strain\""),
+      replaced(replaced(pile_case(), "kind = \"axisymmetric\"", "kind = \"plane-strain\""),
                "kind = \"pile\"\nradius_m = 0.01\ntip_y_m = 0.4\ntip = \"conical\"",
                "kind = \"polygon\"\nvertices_m = [[0.0, 0.5], [0.1, 0.5], [0.1, 0.6]]");
   const std::string polygon_case = replaced(plane, "[phase.body.pile]\nvelocity_y_m_per_s = -0.1",
@@ -406,7 +364,7 @@ TEST(MpmCase, BodyKeysAreCheckedWithLineKeyValueAndRange) {
 }
 
 TEST(MpmCase, PhaseKeysAreCheckedWithLineKeyValueAndRange) {
-  const std::string pile = kPileCase;
+  const std::string pile = pile_case();
   expect_error(replaced(pile, "[phase.body.pile]\nvelocity_y_m_per_s = -0.1",
                         "[phase.body.pile]\nvelocity_y_m_per_s = -0.1\n[phase.body.pipe]\n"
                         "velocity_y_m_per_s = -0.1"),
@@ -456,7 +414,7 @@ TEST(MpmCase, PhaseKeysAreCheckedWithLineKeyValueAndRange) {
 }
 
 TEST(MpmCase, LoadAndBoundaryKeysAreCheckedWithLineKeyValueAndRange) {
-  const std::string pile = kPileCase;
+  const std::string pile = pile_case();
   expect_error(replaced(pile, "region = \"ground\"", "region = \"earth\""), "region = \"earth\"",
                {"traction[0].region = \"earth\"", "\"ground\""});
   expect_error(replaced(pile, "side = \"top\"", "side = \"up\""), "side = \"up\"",
@@ -479,7 +437,7 @@ TEST(MpmCase, LoadAndBoundaryKeysAreCheckedWithLineKeyValueAndRange) {
 }
 
 TEST(MpmCase, GeostaticStateIsResetUnderTheGivenGravity) {
-  const MpmCase c = read_mpm_case_text(kPileCase, "case.toml");
+  const MpmCase c = read_mpm_case_text(pile_case(), "case.toml");
   mpm::Solver solver = make_mpm_solver(c);
   mpm::Particles& particles = solver.particles();
   ASSERT_GT(particles.size(), 0u);
@@ -500,45 +458,12 @@ TEST(MpmCase, GeostaticStateIsResetUnderTheGivenGravity) {
 
 // A column under self-weight and a surcharge on its top, started by a geostatic phase; a second
 // phase switches to a stiffer set.
-const char* const kSurchargeCase = R"([geometry]
-kind = "plane-strain"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.5
-cells = 5
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 1.2
-cells = 12
-[boundaries]
-left = "roller"
-right = "roller"
-bottom = "fixed"
-[solver]
-threads = 1
-[[material]]
-name = "soft"
-model = "linear-elastic"
-young_modulus_MPa = 20.0
-poisson_ratio = 0.3
-[[material]]
-name = "stiff"
-model = "linear-elastic"
-young_modulus_MPa = 40.0
-poisson_ratio = 0.3
-[[region]]
-name = "column"
-x_min_m = 0.0
-x_max_m = 0.5
-y_min_m = 0.0
-y_max_m = 1.0
-particles_per_cell = 2
-density_kg_per_m3 = 2000.0
-material = "soft"
-initial_stress = "geostatic"
-[[traction]]
+std::string surcharge_case() {
+  using namespace test_support;
+  return mpm_case_opening({.x_max_m = 0.5, .x_cells = 5, .y_max_m = 1.2, .y_cells = 12}) +
+         linear_elastic_material_text("soft", 20.0) + linear_elastic_material_text("stiff", 40.0) +
+         mpm_region_text({.name = "column", .x_max_m = 0.5, .y_max_m = 1.0, .material = "soft"}) +
+         R"([[traction]]
 region = "column"
 side = "top"
 normal_kPa = 10.0
@@ -555,9 +480,10 @@ duration_s = 0.01
 [phase.materials]
 soft = "stiff"
 )";
+}
 
 TEST(MpmCase, PhaseStartSetsTractionsGeostaticStressAndMaterials) {
-  const MpmCase c = read_mpm_case_text(kSurchargeCase, "case.toml");
+  const MpmCase c = read_mpm_case_text(surcharge_case(), "case.toml");
   mpm::Solver solver = make_mpm_solver(c);
   const std::vector<mpm::Vec2> forces = mpm_traction_forces(c, solver.particles());
   mpm::Vec2 total = mpm::Vec2::Zero();
@@ -606,7 +532,7 @@ TEST(MpmCase, PhaseStartSetsTractionsGeostaticStressAndMaterials) {
 
 TEST(MpmCase, AbsorbingSideTakesEnergyOutOfAMovingBlock) {
   // A block moving towards the right side, which absorbs: energies.csv shows absorbed_J > 0.
-  std::string text = kSurchargeCase;
+  std::string text = surcharge_case();
   text = replaced(text, "right = \"roller\"",
                   "right = { kind = \"absorbing\", density_kg_per_m3 = 2000.0, "
                   "p_wave_speed_m_per_s = 116.0, s_wave_speed_m_per_s = 62.0 }");
@@ -617,9 +543,7 @@ TEST(MpmCase, AbsorbingSideTakesEnergyOutOfAMovingBlock) {
   text = replaced(text, "local_damping = 0.7\n", "");
   const MpmCase c = read_mpm_case_text(text, "case.toml");
   ASSERT_EQ(phase_settings(c, c.phases[0]).absorbing_boundaries.size(), 1u);
-  const std::filesystem::path out = std::filesystem::temp_directory_path() /
-                                    ("pilempm-mpm-absorbing-" + std::to_string(::getpid()));
-  std::filesystem::remove_all(out);
+  const std::filesystem::path out = test_support::fresh_temp_path("mpm-absorbing");
   run_mpm_case(c, out, nullptr);
   std::ifstream csv(out / "energies.csv");
   std::string line, last;
@@ -632,7 +556,7 @@ TEST(MpmCase, AbsorbingSideTakesEnergyOutOfAMovingBlock) {
 
 TEST(MpmCase, PileRowsOfBodiesCsvAreFullBodyForces) {
   // A pile of one cell's radius, its tip 0.1 m deep, in ground at rest (no surcharge).
-  std::string text = replaced(kPileCase, "radius_m = 0.01", "radius_m = 0.05");
+  std::string text = replaced(pile_case(), "radius_m = 0.01", "radius_m = 0.05");
   text = replaced(text, "contact_distance_m = 0.01", "contact_distance_m = 0.025");
   text = replaced(text, "normal_kPa = 10.0\nshear_kPa = 1.0", "normal_kPa = 0.0");
   const MpmCase c = read_mpm_case_text(text, "case.toml");

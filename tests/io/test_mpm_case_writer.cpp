@@ -326,7 +326,7 @@ TEST(MpmCaseWriter, EveryExampleMpmCaseReadWrittenAndReadAgainIsTheSameCase) {
 // changes, [n_x, n_y] particles per cell.
 TEST(MpmCaseWriter, TheTestCasesWithEveryKeyReadWrittenAndReadAgainAreTheSameCase) {
   expect_round_trip(read_mpm_case_text(test_support::kMohrCoulombCase, "case.toml"));
-  expect_round_trip(read_mpm_case_text(test_support::kPileCase, "pile.toml"));
+  expect_round_trip(read_mpm_case_text(test_support::pile_case(), "pile.toml"));
 }
 
 // A polygon with a friction angle and an apex angle whose radians need every digit, an

@@ -21,6 +21,8 @@
 
 #include <fmt/format.h>
 
+#include "../support/files.hpp"
+#include "../support/mpm_case_texts.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_checkpoint.hpp"
@@ -40,69 +42,45 @@ using mpm::Vec2;
 
 constexpr double kPi = std::numbers::pi;
 
+struct CaseOptions {
+  Geometry geometry = Geometry::plane_strain;
+  int threads = 1;
+  std::string material = "original";
+  double x_max = 0.4;  // the region's right side [m]
+  bool body = true;
+};
+
 // A hypoplastic ground with intergranular strain (IGS3) under 20 g with local damping, 8 x 10
-// cells of 2 x 2 particles, in plane strain or axisymmetry. Placeholders: GEOMETRY, THREADS,
-// MATERIAL, X_MAX (the region's right side).
-const char* const kCase = R"(
-[geometry]
-kind = "GEOMETRY"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.4
-cells = 8
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.6
-cells = 12
-[boundaries]
-right = "roller"
-bottom = "fixed"
-[solver]
-gravity_multiplier = 20.0
-local_damping = 0.1
-threads = THREADS
-[[region]]
-x_min_m = 0.0
-x_max_m = X_MAX
-y_min_m = 0.0
-y_max_m = 0.5
-particles_per_cell = 2
-density_kg_per_m3 = 1600.0
-material = "MATERIAL"
-igs = "IGS3"
-initial_stress = "geostatic"
+// cells of 2 x 2 particles, in plane strain or axisymmetry.
+std::string case_text(const CaseOptions& options) {
+  using namespace test_support;
+  const bool axisymmetric = options.geometry == Geometry::axisymmetric;
+  return mpm_case_opening({.geometry = axisymmetric ? "axisymmetric" : "plane-strain",
+                           .x_max_m = 0.4,
+                           .x_cells = 8,
+                           .y_max_m = 0.6,
+                           .y_cells = 12,
+                           .boundaries = kRollerRightFixedBase,
+                           .solver = "gravity_multiplier = 20.0\nlocal_damping = 0.1\nthreads = " +
+                                     std::to_string(options.threads) + "\n"}) +
+         mpm_region_text({.x_max_m = options.x_max,
+                          .density_kg_per_m3 = 1600.0,
+                          .material = options.material}) +
+         R"(igs = "IGS3"
 e0 = 0.75
 e0_at = "initial-stress"
 [[phase]]
 duration_s = 1.0
 output_interval_s = 1.0
 )";
-
-struct CaseOptions {
-  Geometry geometry = Geometry::plane_strain;
-  int threads = 1;
-  std::string material = "original";
-  std::string x_max = "0.4";
-  bool body = true;
-};
-
-void replace(std::string& text, const std::string& from, const std::string& to) {
-  text.replace(text.find(from), from.size(), to);
 }
 
 // The solver of the case at time 0 with its rigid body: in plane strain a plate on the left of
 // the surface pushed down and sideways with friction, in axisymmetry a conical pile on the axis
 // pushed down; both start 1 cm above the surface, within the contact distance (half a cell).
 Solver make_solver(const CaseOptions& options) {
-  std::string text = kCase;
   const bool axisymmetric = options.geometry == Geometry::axisymmetric;
-  replace(text, "GEOMETRY", axisymmetric ? "axisymmetric" : "plane-strain");
-  replace(text, "THREADS", std::to_string(options.threads));
-  replace(text, "MATERIAL", options.material);
-  replace(text, "X_MAX", options.x_max);
-  Solver solver = make_mpm_solver(read_mpm_case_text(text, "checkpoint.toml"));
+  Solver solver = make_mpm_solver(read_mpm_case_text(case_text(options), "checkpoint.toml"));
   if (options.body) {
     if (axisymmetric) {
       RigidBody pile = RigidBody::pile(0.05, 0.51, kPi / 3.0);
@@ -139,12 +117,7 @@ bool has_temporary_file(const fs::path& file) {
   return false;
 }
 
-std::string read_bytes(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return buffer.str();
-}
+using test_support::read_text;  // the bytes of a file
 
 // Bitwise equality of two values (NaN included), with the first differing index in the message.
 template <class T>
@@ -369,7 +342,7 @@ TEST(MpmCheckpoint, CheckpointOfAnotherCaseIsAnErrorNamingTheMismatch) {
   write_mpm_checkpoint(file, solver, sample_info(solver));
 
   CaseOptions narrower;
-  narrower.x_max = "0.3";  // 6 columns of cells instead of 8
+  narrower.x_max = 0.3;  // 6 columns of cells instead of 8
   Solver fewer_particles = make_solver(narrower);
   expect_rejected(file, fewer_particles, "particle_count = 320: the case has 240 particles");
 
@@ -429,7 +402,7 @@ TEST(MpmCheckpoint, DamagedOrForeignFileIsAnInputError) {
   const fs::path whole = temp_file("whole.h5");
   const fs::path cut = temp_file("cut.h5");
   write_mpm_checkpoint(whole, solver, sample_info(solver));
-  const std::string bytes = read_bytes(whole);
+  const std::string bytes = read_text(whole);
   std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   expect_rejected(cut, solver, cut.string());
   fs::remove(text);
@@ -448,7 +421,7 @@ TEST(MpmCheckpoint, FlippedBitsAreRefusedOrChangeNothing) {
   const fs::path whole = temp_file("flip-whole.h5");
   const fs::path damaged = temp_file("flip-damaged.h5");
   write_mpm_checkpoint(whole, written, info);
-  const std::string bytes = read_bytes(whole);
+  const std::string bytes = read_text(whole);
   std::uint64_t seed = 2025;
   const auto next = [&seed]() {  // a 64-bit linear congruential generator (Knuth's MMIX)
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -504,7 +477,7 @@ TEST(MpmCheckpoint, DamagedDatasetIsRefusedNamingIt) {
   run_steps(written, 5);
   const fs::path file = temp_file("stress-damaged.h5");
   write_mpm_checkpoint(file, written, sample_info(written));
-  std::string bytes = read_bytes(file);
+  std::string bytes = read_text(file);
   const Particles& p = written.particles();
   const std::size_t last = p.size() - 1;
   std::string needle(6 * sizeof(double), '\0');

@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 
+#include "../support/files.hpp"
+#include "../support/input_texts.hpp"
 #include "../support/mpm_case_texts.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
@@ -29,58 +31,26 @@ using namespace simulation;
 namespace fs = std::filesystem;
 
 // An elastic column 1 m high, stress free, under its own weight.
-const char* const kColumn = R"([geometry]
-kind = "plane-strain"
-[grid.x]
-spacing = "uniform"
-min_m = 0.0
-max_m = 0.4
-cells = 4
-[grid.y]
-spacing = "uniform"
-min_m = 0.0
-max_m = 1.2
-cells = 12
-[boundaries]
-left = "roller"
-right = "roller"
-bottom = "fixed"
-[solver]
-analysis = "quasi-static"
-threads = 1
-[[material]]
-name = "soil"
-model = "linear-elastic"
-young_modulus_MPa = 10.0
-poisson_ratio = 0.3
-[[region]]
-x_min_m = 0.0
-x_max_m = 0.4
-y_min_m = 0.0
-y_max_m = 1.0
-particles_per_cell = 2
-density_kg_per_m3 = 2000.0
-material = "soil"
-initial_stress = "zero"
-[[phase]]
+std::string column_case() {
+  using namespace test_support;
+  return mpm_case_opening({.x_max_m = 0.4,
+                           .x_cells = 4,
+                           .y_max_m = 1.2,
+                           .y_cells = 12,
+                           .solver = "analysis = \"quasi-static\"\nthreads = 1\n"}) +
+         linear_elastic_material_text("soil", 10.0) +
+         mpm_region_text(
+             {.x_max_m = 0.4, .y_max_m = 1.0, .material = "soil", .initial_stress = "zero"}) +
+         R"([[phase]]
 name = "self-weight"
 duration_s = 1.0
 energy_interval_s = 1.0
 )";
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
-fs::path temp_dir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("pilempm-qs-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
+using test_support::fresh_temp_path;
+using test_support::read_text;
+using test_support::replaced;
 
 // The message of the InputError that reading `text` throws ("" when none).
 std::string read_error(const std::string& text) {
@@ -92,24 +62,18 @@ std::string read_error(const std::string& text) {
   return "";
 }
 
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const std::size_t at = text.find(from);
-  EXPECT_NE(at, std::string::npos) << from;
-  return text.replace(at, from.size(), to);
-}
-
 // The explicit restart test's plate pushed into an elastic block under a surcharge, then lifted
 // until its force falls below 1 kN with a stiffer set, run quasi-statically: pushed 4.5 mm in
 // load steps of at most 1 mm.
 std::string plate_case() {
-  return replaced(replaced(test_support::kPlateIntoBlockCase, "[solver]\nlocal_damping = 0.1\n",
+  return replaced(replaced(test_support::plate_into_block_case(), "[solver]\nlocal_damping = 0.1\n",
                            "[solver]\nanalysis = \"quasi-static\"\ndisplacement_step_m = 0.001\n"),
                   "energy_interval_s = 0.005\n[phase.body.plate]",
                   "energy_interval_s = 0.005\nstop_displacement_y_m = -0.0045\n[phase.body.plate]");
 }
 
 TEST(QuasiStaticMpmCase, SelfWeightColumnMatchesTheClosedFormInOneLoadStep) {
-  const MpmCase c = read_mpm_case_text(kColumn, "column.toml");
+  const MpmCase c = read_mpm_case_text(column_case(), "column.toml");
   ASSERT_EQ(c.analysis, MpmAnalysis::quasi_static);
   QuasiStaticScheme scheme(c);
   const std::vector<mpm::Vec2> start = scheme.state().particles().position;
@@ -193,11 +157,11 @@ TEST(QuasiStaticMpmCase, PlateStopsExactlyOnTheGoal) {
 
 TEST(QuasiStaticMpmCase, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
   const MpmCase c = read_mpm_case_text(plate_case(), "plate.toml");
-  const fs::path whole = temp_dir("whole");
+  const fs::path whole = fresh_temp_path("qs-whole");
   const MpmRunSummary full = run_mpm_case(c, whole, nullptr);
   EXPECT_EQ(full.analysis, MpmAnalysis::quasi_static);
   ASSERT_EQ(full.checkpoints.size(), 2u);
-  const fs::path second = temp_dir("restarted");
+  const fs::path second = fresh_temp_path("qs-restarted");
   const MpmRunSummary part = run_mpm_case(c, second, nullptr, full.checkpoints[0]);
   EXPECT_EQ(part.steps, full.steps);
   EXPECT_EQ(part.time, full.time);
@@ -209,48 +173,49 @@ TEST(QuasiStaticMpmCase, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
       replaced(plate_case(), "analysis = \"quasi-static\"\ndisplacement_step_m = 0.001\n", "");
   const MpmCase explicit_case = read_mpm_case_text(text, "explicit.toml");
   try {
-    run_mpm_case(explicit_case, temp_dir("mixed"), nullptr, full.checkpoints[0]);
+    run_mpm_case(explicit_case, fresh_temp_path("qs-mixed"), nullptr, full.checkpoints[0]);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("analysis"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("quasi-static"), std::string::npos) << e.what();
   }
-  for (const fs::path& dir : {whole, second, temp_dir("mixed")}) fs::remove_all(dir);
+  for (const fs::path& dir : {whole, second, fresh_temp_path("qs-mixed")}) fs::remove_all(dir);
 }
 
 TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
   std::string message =
-      read_error(replaced(kColumn, "threads = 1", "threads = 1\nmass_scaling = 2"));
+      read_error(replaced(column_case(), "threads = 1", "threads = 1\nmass_scaling = 2"));
   EXPECT_NE(message.find("solver.mass_scaling"), std::string::npos) << message;
   EXPECT_NE(message.find("explicit"), std::string::npos) << message;
   EXPECT_NE(message.find("case.toml:"), std::string::npos) << message;
 
-  message =
-      read_error(replaced(kColumn, "duration_s = 1.0", "duration_s = 1.0\nlocal_damping = 0.1"));
+  message = read_error(
+      replaced(column_case(), "duration_s = 1.0", "duration_s = 1.0\nlocal_damping = 0.1"));
   EXPECT_NE(message.find("local_damping"), std::string::npos) << message;
 
-  message =
-      read_error(replaced(kColumn, "analysis = \"quasi-static\"", "displacement_step_m = 0.1"));
+  message = read_error(
+      replaced(column_case(), "analysis = \"quasi-static\"", "displacement_step_m = 0.1"));
   EXPECT_NE(message.find("solver.displacement_step_m"), std::string::npos) << message;
   EXPECT_NE(message.find("quasi-static"), std::string::npos) << message;
 
-  message = read_error(replaced(kColumn, "analysis = \"quasi-static\"", "analysis = \"implicit\""));
+  message =
+      read_error(replaced(column_case(), "analysis = \"quasi-static\"", "analysis = \"implicit\""));
   EXPECT_NE(message.find("solver.analysis"), std::string::npos) << message;
 
   // volumetric_smoothing is B-bar in the quasi-static analysis; the Newton step limit is its own.
   const MpmCase smoothed = read_mpm_case_text(
-      replaced(kColumn, "threads = 1",
+      replaced(column_case(), "threads = 1",
                "threads = 1\nvolumetric_smoothing = true\nnewton_step_limit_cells = 0.1"),
       "smoothed.toml");
   EXPECT_TRUE(quasi_static_settings(smoothed).volumetric_averaging);
   EXPECT_EQ(smoothed.quasi_static.step_limit, 0.1);
-  message =
-      read_error(replaced(kColumn, "analysis = \"quasi-static\"", "newton_step_limit_cells = 0.1"));
+  message = read_error(
+      replaced(column_case(), "analysis = \"quasi-static\"", "newton_step_limit_cells = 0.1"));
   EXPECT_NE(message.find("solver.newton_step_limit_cells"), std::string::npos) << message;
 
   // Inertia-driven: an initial velocity.
   const MpmCase moving =
-      read_mpm_case_text(replaced(kColumn, "initial_stress = \"zero\"",
+      read_mpm_case_text(replaced(column_case(), "initial_stress = \"zero\"",
                                   "initial_stress = \"zero\"\nvelocity_y_m_per_s = -1.0"),
                          "moving.toml");
   try {

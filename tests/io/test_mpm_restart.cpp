@@ -9,6 +9,7 @@
 #include <sstream>
 #include <string>
 
+#include "../support/files.hpp"
 #include "../support/mpm_case_texts.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/mpm_case.hpp"
@@ -22,26 +23,13 @@ using namespace simulation;
 
 namespace fs = std::filesystem;
 
-using test_support::kPlateIntoBlockCase;
-const char* const kCase = kPlateIntoBlockCase;
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-fs::path temp_dir(const std::string& name) {
-  const fs::path dir =
-      fs::temp_directory_path() / ("pilempm-mpm-" + name + "-" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
+using test_support::fresh_temp_path;
+using test_support::read_text;
 
 TEST(MpmRestart, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
-  const MpmCase c = read_mpm_case_text(kCase, "case.toml");
-  const fs::path whole = temp_dir("whole");
+  const std::string plate_case = test_support::plate_into_block_case();
+  const MpmCase c = read_mpm_case_text(plate_case, "case.toml");
+  const fs::path whole = fresh_temp_path("mpm-whole");
   const MpmRunSummary full = run_mpm_case(c, whole, nullptr);
   ASSERT_EQ(full.checkpoints.size(), 2u);
   EXPECT_EQ(full.checkpoints[0].filename(), "checkpoint_01_push.h5");
@@ -50,7 +38,7 @@ TEST(MpmRestart, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
   ASSERT_EQ(full.phase_ends.size(), 2u);
   EXPECT_NE(full.phase_ends[1].reason.find("stop_force_y_below_N"), std::string::npos);
 
-  const fs::path second = temp_dir("restarted");
+  const fs::path second = fresh_temp_path("mpm-restarted");
   const MpmRunSummary part = run_mpm_case(c, second, nullptr, full.checkpoints[0]);
   EXPECT_EQ(part.first_phase, 1u);
   ASSERT_EQ(part.phase_ends.size(), 1u);
@@ -75,12 +63,12 @@ TEST(MpmRestart, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
   }
 
   // A case whose second phase differs: pushed further instead of lifted.
-  std::string text = kCase;
+  std::string text = plate_case;
   text.replace(text.find("velocity_y_m_per_s = 0.1"), 24, "velocity_y_m_per_s = -0.1");
   text.replace(text.find("stop_force_y_below_N = 1000.0"), 29,
                "stop_phase_displacement_y_m = -0.002");
   const MpmCase changed = read_mpm_case_text(text, "changed.toml");
-  const fs::path third = temp_dir("changed");
+  const fs::path third = fresh_temp_path("mpm-changed");
   const MpmRunSummary other = run_mpm_case(changed, third, nullptr, full.checkpoints[0]);
   ASSERT_EQ(other.phase_ends.size(), 1u);
   EXPECT_NE(other.phase_ends[0].reason.find("displacement y = -0.007 m"), std::string::npos)

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/files.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/output/output_folder.hpp"
@@ -25,23 +26,13 @@ namespace pilempm {
 namespace {
 
 namespace fs = std::filesystem;
+using test_support::read_text;
 
 class OutputFolder : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("pilempm-output-folder-" + std::to_string(::getpid()) + "-" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-  }
+  void SetUp() override { dir_ = test_support::fresh_test_path("output-folder"); }
   void TearDown() override { fs::remove_all(dir_); }
 
-  static std::string read(const fs::path& path) {
-    std::ifstream in(path);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-  }
   static void touch(const fs::path& path, const std::string& text = "x\n") {
     fs::create_directories(path.parent_path());
     std::ofstream(path) << text;
@@ -72,7 +63,7 @@ TEST_F(OutputFolder, AFolderWithAnotherRunIsRefusedAndOverwriteRemovesOnlyThatRu
   fs::create_directories(dir_ / "mpm");
   write_file_atomically(dir_ / "mpm" / "snapshot.vtu", "2\n");
   touch(dir_ / "notes.txt");  // the user's own file
-  const std::string list = read(dir_ / kOutputListName);
+  const std::string list = read_text(dir_ / kOutputListName);
   EXPECT_NE(list.find("run_one.csv\n"), std::string::npos) << list;
   EXPECT_NE(list.find("mpm/snapshot.vtu\n"), std::string::npos) << list;
 
@@ -95,7 +86,7 @@ TEST_F(OutputFolder, AFolderWithAnotherRunIsRefusedAndOverwriteRemovesOnlyThatRu
   EXPECT_EQ(names(), std::vector<std::string>{"notes.txt"});  // mpm/ was emptied and removed
   // The new run's list starts empty and the folder can be taken again only with overwrite.
   write_file_atomically(dir_ / "run_two.csv", "3\n");
-  EXPECT_EQ(read(dir_ / kOutputListName), "run_two.csv\n");
+  EXPECT_EQ(read_text(dir_ / kOutputListName), "run_two.csv\n");
 }
 
 TEST_F(OutputFolder, ForeignFilesAloneAreNotAnotherRun) {
@@ -135,7 +126,7 @@ TEST_F(OutputFolder, ARunContinuingItsOwnFolderKeepsItAndItsList) {
   EXPECT_TRUE(fs::exists(dir_ / "checkpoint_01_k0.h5"));
   write_file_atomically(dir_ / "checkpoint_01_k0.h5", "d\n");  // listed once
   write_file_atomically(dir_ / "checkpoint_02_jack.h5", "e\n");
-  EXPECT_EQ(read(dir_ / kOutputListName), "checkpoint_01_k0.h5\ncheckpoint_02_jack.h5\n");
+  EXPECT_EQ(read_text(dir_ / kOutputListName), "checkpoint_01_k0.h5\ncheckpoint_02_jack.h5\n");
 }
 
 TEST_F(OutputFolder, TheListOfANestedRunFolderHoldsItsOwnFiles) {
@@ -143,8 +134,8 @@ TEST_F(OutputFolder, TheListOfANestedRunFolderHoldsItsOwnFiles) {
   claim_output_folder(dir_ / "case");  // one of its runs
   write_file_atomically(dir_ / "README.md", "r\n");
   write_file_atomically(dir_ / "case" / "pile.csv", "p\n");
-  EXPECT_EQ(read(dir_ / kOutputListName), "README.md\n");
-  EXPECT_EQ(read(dir_ / "case" / kOutputListName), "pile.csv\n");
+  EXPECT_EQ(read_text(dir_ / kOutputListName), "README.md\n");
+  EXPECT_EQ(read_text(dir_ / "case" / kOutputListName), "pile.csv\n");
   // Overwriting the study removes its runs' files too.
   touch(dir_ / "case" / "mine.txt");
   OutputFolderOptions overwrite;
@@ -205,7 +196,7 @@ TEST_F(OutputFolder, AFullDiskIsAnErrorAndLeavesNoTemporaryFile) {
   ::waitpid(child, &status, 0);
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 0) << "10: no error, 11: the message does not name the file";
-  EXPECT_EQ(read(dir_ / "old.csv"), "old\n");
+  EXPECT_EQ(read_text(dir_ / "old.csv"), "old\n");
   EXPECT_EQ(names(), std::vector<std::string>{"old.csv"});
 }
 

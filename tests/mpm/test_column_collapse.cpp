@@ -21,8 +21,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 
+#include "../support/material_builders.hpp"
 #include "../support/mpm_builders.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/mpm/solver.hpp"
@@ -77,13 +79,9 @@ CollapseResult run_collapse(double aspect_ratio, int cells_over_width) {
   fill.initial_state.void_ratio = 0.7;
   Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
 
-  MohrCoulombParameters parameters;
-  parameters.young_modulus = 2.0e6;
-  parameters.poisson_ratio = 0.3;
-  parameters.cohesion = 0.0;
-  parameters.friction_angle_deg = 30.0;
-  parameters.dilatancy_angle_deg = 0.0;
-  const auto model = std::make_shared<MohrCoulomb>(parameters);
+  // Cohesionless, φ = 30°, non-dilatant, no tension cut-off.
+  const auto model = std::make_shared<MohrCoulomb>(pilempm::test_support::mohr_coulomb_parameters(
+      2.0e6, 0.3, 0.0, 30.0, 0.0, std::numeric_limits<double>::infinity()));
 
   SolverSettings settings;
   settings.geometry = Geometry::plane_strain;

@@ -7,6 +7,7 @@
 #include <random>
 #include <vector>
 
+#include "../support/mpm_builders.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/grid.hpp"
 #include "pilempm/mpm/particles.hpp"
@@ -232,12 +233,7 @@ TEST(ShapeFunctions, TwoDimensionalStencilIsATensorProduct) {
 TEST(Particles, FillRectangleGivesVolumeMassAndSizes) {
   const Grid grid(GridAxis::uniform(0.0, 2.0, 4), GridAxis::uniform(0.0, 1.0, 2));
   Particles plane, axisymmetric;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = 1.0;
-  fill.y_min = 0.0;
-  fill.y_max = 1.0;
-  fill.density = 2000.0;
+  RectangleFill fill = test_support::block_fill(0.0, 1.0, 0.0, 1.0, 2000.0);
   EXPECT_EQ(fill_rectangle(plane, grid, Geometry::plane_strain, fill), 2u * 2u * 4u);
   EXPECT_EQ(fill_rectangle(axisymmetric, grid, Geometry::axisymmetric, fill), 16u);
   double area = 0.0, volume = 0.0, mass = 0.0;

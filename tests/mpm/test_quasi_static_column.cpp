@@ -16,6 +16,7 @@
 
 #include <Eigen/SVD>
 
+#include "../support/mpm_builders.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 
@@ -45,17 +46,9 @@ ColumnResult run_column(Geometry geometry, int cells, double gravity_multiplier)
   const double h = kHeight / cells;
   Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
             GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = 2.0 * h;
-  fill.y_min = 0.0;
-  fill.y_max = kHeight;
-  fill.density = kDensity;
-  fill_rectangle(particles, grid, geometry, fill);
+  test_support::set_walls_and_fixed_base(grid);
+  Particles particles = test_support::particle_block(
+      grid, geometry, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
   std::vector<double> start_y(particles.size());
   for (std::size_t p = 0; p < particles.size(); ++p) start_y[p] = particles.position[p].y();
 
@@ -149,17 +142,9 @@ LiftedColumn lifted_column(double ghost_stiffness, double lift) {
   const double h = kHeight / cells;
   Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
             GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = 2.0 * h;
-  fill.y_min = 0.0;
-  fill.y_max = kHeight;
-  fill.density = kDensity;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  test_support::set_walls_and_fixed_base(grid);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
   double weight = 0.0;
   for (std::size_t p = 0; p < particles.size(); ++p) {
     particles.position[p].y() += lift * h;

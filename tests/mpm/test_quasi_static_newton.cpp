@@ -7,6 +7,7 @@
 #include <memory>
 #include <vector>
 
+#include "../support/mpm_builders.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
@@ -116,17 +117,9 @@ std::vector<double> mohr_coulomb_column_residuals(TangentKind tangent, int& iter
   const int cells = 16;
   const double h = 1.0 / cells;
   Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2), GridAxis::uniform(0.0, 1.0 + 2.0 * h, cells + 2));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
-  Particles particles;
-  RectangleFill fill;
-  fill.x_min = 0.0;
-  fill.x_max = 2.0 * h;
-  fill.y_min = 0.0;
-  fill.y_max = 1.0;
-  fill.density = 2000.0;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  test_support::set_walls_and_fixed_base(grid);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, 1.0, 2000.0));
   MohrCoulombParameters mc;
   mc.young_modulus = 50.0e6;
   mc.poisson_ratio = 0.3;
@@ -197,18 +190,12 @@ TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIteratio
   const double density = 2650.0 / (1.0 + void_ratio);
   Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
             GridAxis::uniform(0.0, height + 2.0 * h, cells + 2));
-  grid.set_boundary(Side::left, BoundaryCondition::roller);
-  grid.set_boundary(Side::right, BoundaryCondition::roller);
-  grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
+  test_support::set_walls_and_fixed_base(grid);
   const auto model =
       std::make_shared<Hypoplastic>(hypoplastic_set("original"), intergranular_strain_set("IGS3"));
-  Particles particles;
-  RectangleFill fill;
-  fill.x_max = 2.0 * h;
-  fill.y_max = height;
-  fill.density = density;
+  RectangleFill fill = test_support::block_fill(0.0, 2.0 * h, 0.0, height, density);
   fill.initial_state.void_ratio = void_ratio;
-  fill_rectangle(particles, grid, Geometry::plane_strain, fill);
+  Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const double vertical = -density * 9.81 * 40.0 * (height - particles.position[p].y()) - 1e3;
     particles.state[p].stress = diagonal6(0.5 * vertical, vertical, 0.5 * vertical);

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "../support/mpm_builders.hpp"
+#include "../support/refusing_model.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/solver.hpp"
@@ -215,20 +216,6 @@ TEST(RigidMotion, UniformParticleLoadAcceleratesTheBlockAsAWhole) {
   EXPECT_NEAR(solver.energies().external_work, kinetic, 1e-3 * kinetic);
 }
 
-// A model that refuses every strain increment, to check the error the solver raises.
-class RefusingModel final : public ConstitutiveModel {
- public:
-  std::string name() const override { return "refusing"; }
-  UpdateResult update(MaterialState&, const Vec6&) const override {
-    UpdateResult result;
-    result.ok = false;
-    result.message = "refused on purpose";
-    return result;
-  }
-  Mat6 tangent(const MaterialState&, const Vec6&) const override { return Mat6::Identity(); }
-  double wave_modulus(const MaterialState&) const override { return kYoung; }
-};
-
 TEST(SolverErrors, AFailedStressUpdateNamesParticleStepAndTime) {
   Grid grid(GridAxis::uniform(0.0, 1.0, 4), GridAxis::uniform(0.0, 1.0, 4));
   grid.set_boundary(Side::bottom, BoundaryCondition::fixed);
@@ -239,7 +226,9 @@ TEST(SolverErrors, AFailedStressUpdateNamesParticleStepAndTime) {
   SolverSettings settings;
   settings.threads = 2;
   Solver solver(std::move(grid), std::move(particles),
-                {elastic(), std::make_shared<RefusingModel>()}, settings);
+                {elastic(), std::make_shared<pilempm::test_support::RefusingModel>(
+                                "refusing", "refused on purpose", kYoung)},
+                settings);
   try {
     solver.step();
     FAIL() << "no error";

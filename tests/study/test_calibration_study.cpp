@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "../support/files.hpp"
 #include "pilempm/analytic/bolton.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/element_case.hpp"
@@ -24,12 +25,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test_support::read_text;
 
 // Every value of `"key": "..."` in a JSON text (enough for figures.json).
 std::set<std::string> json_strings(const std::string& json, const std::string& key) {

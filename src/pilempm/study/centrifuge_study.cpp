@@ -4,6 +4,7 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -18,6 +19,7 @@
 #include "pilempm/study/csv_table.hpp"
 #include "pilempm/study/figures.hpp"
 #include "pilempm/study/plotting.hpp"
+#include "pilempm/study/process_pool.hpp"
 
 namespace pilempm {
 
@@ -175,6 +177,164 @@ std::string checks_cell(const std::vector<CentrifugeCheck>& failed) {
   return "**FAILED**: " + names;
 }
 
+bool listed_already(const std::vector<CentrifugeStudyFailure>& failures, const std::string& file,
+                    bool finished = false) {
+  return std::any_of(failures.begin(), failures.end(), [&](const CentrifugeStudyFailure& f) {
+    return f.file == file && f.finished() == finished;
+  });
+}
+
+// The groups named in `chosen` (all when empty), in the study's order.
+std::vector<const CentrifugeStudyGroup*> chosen_groups(const std::vector<std::string>& chosen) {
+  std::vector<std::string> names;
+  for (const CentrifugeStudyGroup& g : centrifuge_study_groups()) names.push_back(g.name);
+  for (const std::string& name : chosen)
+    if (std::find(names.begin(), names.end(), name) == names.end())
+      throw InputError("", 0, "--groups", name, fmt::format("one of {}", fmt::join(names, ", ")));
+  std::vector<const CentrifugeStudyGroup*> groups;
+  for (const CentrifugeStudyGroup& g : centrifuge_study_groups())
+    if (chosen.empty() || std::find(chosen.begin(), chosen.end(), g.name) != chosen.end())
+      groups.push_back(&g);
+  return groups;
+}
+
+// The case files of `groups`, each once (a case shared by two groups runs once), in order.
+std::vector<std::string> case_files(const std::vector<const CentrifugeStudyGroup*>& groups) {
+  std::vector<std::string> files;
+  for (const CentrifugeStudyGroup* g : groups)
+    for (const CentrifugeStudyCase& c : g->cases)
+      if (std::find(files.begin(), files.end(), c.file) == files.end()) files.push_back(c.file);
+  return files;
+}
+
+// Every case file read and checked (InputError naming the file), with its text.
+std::vector<std::pair<CentrifugeScenario, std::string>> read_cases(
+    const std::filesystem::path& cases_dir, const std::vector<std::string>& files) {
+  std::vector<std::pair<CentrifugeScenario, std::string>> scenarios;
+  for (const std::string& file : files) {
+    const std::filesystem::path path = cases_dir / file;
+    std::string text = read_case_text(path);
+    scenarios.emplace_back(read_centrifuge_case_text(text, path.string()), std::move(text));
+  }
+  return scenarios;
+}
+
+void check_program(const CentrifugeStudyOptions& options) {
+  if (options.program.empty() || !options.program.is_absolute())
+    throw Error(
+        fmt::format("the study's child runs need the pilempm program as an absolute path, "
+                    "not \"{}\"",
+                    options.program.string()));
+}
+
+std::filesystem::path absolute_path(const std::filesystem::path& path) {
+  return std::filesystem::absolute(path).lexically_normal();
+}
+
+// The run of case `file` as a child process, `pilempm centrifuge run` (the same run as the one
+// in this process: the same case text into the same folder name); `absolute`: every path
+// absolute (a command list run elsewhere), else as given (children of this process).
+ChildRun child_run(const CentrifugeStudyOptions& options, const std::filesystem::path& out_dir,
+                   const std::string& file, bool absolute) {
+  const auto path = [absolute](const std::filesystem::path& p) {
+    return (absolute ? absolute_path(p) : p).string();
+  };
+  ChildRun run;
+  run.name = file;
+  run.arguments = {
+      options.program.string(),   "centrifuge", "run", path(options.cases_dir / file), "--out",
+      path(out_dir / stem(file)), "--overwrite"};
+  if (!options.plots) run.arguments.emplace_back("--no-plots");
+  if (!options.python.empty()) {
+    run.arguments.emplace_back("--python");
+    run.arguments.push_back(options.python);
+  }
+  run.log = path(out_dir / "logs" / (stem(file) + ".log"));
+  return run;
+}
+
+// `pilempm centrifuge run`'s exit status for a run that ended and wrote everything but failed
+// its own checks (kExitChecksFailed of src/cli/commands.hpp); the study judges those checks
+// from the run's summary.csv as it does for a run in this process.
+constexpr int kRunFailedItsChecks = 4;
+
+// A child run of case `file` finished: it ended with status 0 or kRunFailedItsChecks and wrote
+// its summary.csv.
+bool child_finished(const ChildOutcome& outcome, const std::filesystem::path& out_dir,
+                    const std::string& file) {
+  return outcome.started && (outcome.exit_code == 0 || outcome.exit_code == kRunFailedItsChecks) &&
+         std::filesystem::exists(out_dir / stem(file) / "summary.csv");
+}
+
+// ": head force X N, capacity Y N" from a run's summary.csv, with the number of its failed
+// checks; what went wrong when the file cannot be read.
+std::string summary_words(const std::filesystem::path& summary) {
+  try {
+    const NumericTable t = read_numeric_csv(summary);
+    const std::vector<CentrifugeCheck> failed = failed_checks(checks_of(t));
+    return fmt::format(
+        ": head force {} N, capacity {} N{}", cell(t, "installation_head_force_N", "{:.1f}"),
+        cell(t, "load_test_capacity_N", "{:.1f}"),
+        failed.empty() ? std::string() : fmt::format(", FAILED {} of its checks", failed.size()));
+  } catch (const Error& e) {
+    return fmt::format("; its summary cannot be read: {}", e.what());
+  }
+}
+
+// Runs the cases `to_run` (indices into `files`) as child processes, options.jobs at once, each
+// on one thread; a line per run as it ends. Returns the runs that did not finish, in case order.
+std::vector<CentrifugeStudyFailure> run_as_children(const CentrifugeStudyOptions& options,
+                                                    const std::filesystem::path& out_dir,
+                                                    const std::vector<std::string>& files,
+                                                    const std::vector<std::size_t>& to_run,
+                                                    std::ostream* progress) {
+  std::vector<ChildRun> runs;
+  for (const std::size_t k : to_run) runs.push_back(child_run(options, out_dir, files[k], false));
+  if (runs.empty()) return {};
+  prepare_output_directory(out_dir / "logs");
+  for (const ChildRun& run : runs) note_output_file(run.log);  // the study's files
+  if (progress != nullptr)
+    *progress << fmt::format(
+                     "study: {} run{}, {} at once, each on one thread; their output in "
+                     "{}/\n",
+                     runs.size(), runs.size() == 1 ? "" : "s",
+                     std::min<std::size_t>(runs.size(), options.jobs), (out_dir / "logs").string())
+              << std::flush;
+  const auto start = std::chrono::steady_clock::now();
+  std::size_t ended = 0;
+  double run_seconds = 0.0;
+  const auto finished = [&](std::size_t i, const ChildOutcome& outcome) {
+    ++ended;
+    run_seconds += outcome.wall_seconds;
+    if (progress == nullptr) return;
+    const std::string count = fmt::format("({}/{})", ended, runs.size());
+    if (!child_finished(outcome, out_dir, runs[i].name)) {
+      *progress << fmt::format("study: {} did not finish: {} after {:.1f} s {}; its log: {}\n",
+                               runs[i].name, outcome.how_it_ended(), outcome.wall_seconds, count,
+                               runs[i].log.string())
+                << std::flush;
+      return;
+    }
+    *progress << fmt::format("study: {} done in {:.1f} s {}{}\n", runs[i].name,
+                             outcome.wall_seconds, count,
+                             summary_words(out_dir / stem(runs[i].name) / "summary.csv"))
+              << std::flush;
+  };
+  const std::vector<ChildOutcome> outcomes =
+      run_children(runs, options.jobs, {"OMP_NUM_THREADS=1"}, finished);
+  if (progress != nullptr)
+    *progress << fmt::format(
+        "study: {} run{} in {:.1f} s with {} at once (the runs' own times add up to {:.1f} s)\n",
+        runs.size(), runs.size() == 1 ? "" : "s",
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+        std::min<std::size_t>(runs.size(), options.jobs), run_seconds);
+  std::vector<CentrifugeStudyFailure> unfinished;
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    if (!child_finished(outcomes[i], out_dir, runs[i].name))
+      unfinished.push_back({runs[i].name, {}, outcomes[i].how_it_ended(), runs[i].log});
+  return unfinished;
+}
+
 }  // namespace
 
 const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
@@ -235,58 +395,52 @@ const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
 std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOptions& options,
                                                          const std::filesystem::path& out_dir,
                                                          std::ostream* progress) {
-  std::vector<std::string> names;
-  for (const CentrifugeStudyGroup& g : centrifuge_study_groups()) names.push_back(g.name);
-  for (const std::string& name : options.groups)
-    if (std::find(names.begin(), names.end(), name) == names.end())
-      throw InputError("", 0, "--groups", name, fmt::format("one of {}", fmt::join(names, ", ")));
-  std::vector<const CentrifugeStudyGroup*> groups;
-  for (const CentrifugeStudyGroup& g : centrifuge_study_groups())
-    if (options.groups.empty() ||
-        std::find(options.groups.begin(), options.groups.end(), g.name) != options.groups.end())
-      groups.push_back(&g);
-
+  const std::vector<const CentrifugeStudyGroup*> groups = chosen_groups(options.groups);
   // Every case file is read and checked before the first run.
-  std::vector<std::string> files;
-  for (const CentrifugeStudyGroup* g : groups)
-    for (const CentrifugeStudyCase& c : g->cases)
-      if (std::find(files.begin(), files.end(), c.file) == files.end()) files.push_back(c.file);
-  std::vector<std::pair<CentrifugeScenario, std::string>> scenarios;
-  for (const std::string& file : files) {
-    const std::filesystem::path path = options.cases_dir / file;
-    std::string text = read_case_text(path);
-    scenarios.emplace_back(read_centrifuge_case_text(text, path.string()), std::move(text));
-  }
+  const std::vector<std::string> files = case_files(groups);
+  const std::vector<std::pair<CentrifugeScenario, std::string>> scenarios =
+      read_cases(options.cases_dir, files);
+  if (options.jobs > 1 && !options.report_only) check_program(options);
   prepare_output_directory(out_dir);
 
-  const std::size_t runs = options.report_only ? 0 : files.size();  // report only: run nothing
-  for (std::size_t k = 0; k < runs; ++k) {
-    const std::filesystem::path dir = out_dir / stem(files[k]);
-    if (options.resume && std::filesystem::exists(dir / "summary.csv")) {
+  std::vector<std::size_t> to_run;  // report only: run nothing
+  for (std::size_t k = 0; k < (options.report_only ? 0 : files.size()); ++k) {
+    if (options.resume && std::filesystem::exists(out_dir / stem(files[k]) / "summary.csv")) {
       if (progress != nullptr)
         *progress << fmt::format("study: {} done before, kept ({}/{})\n", files[k], k + 1,
                                  files.size());
       continue;
     }
-    if (progress != nullptr)
-      *progress << fmt::format("study: running {} ({}/{})\n", files[k], k + 1, files.size())
-                << std::flush;
-    // The case's folder is the study's own: what an earlier, unfinished run of the case left
-    // there is replaced.
-    OutputFolderOptions folder;
-    folder.overwrite = true;
-    claim_output_folder(dir, folder);
-    CentrifugeRunOptions run_options;
-    run_options.plots = options.plots;
-    run_options.python = options.python;
-    const CentrifugeSummary s =
-        run_centrifuge(scenarios[k].first, scenarios[k].second, dir, progress, run_options);
-    const std::vector<CentrifugeCheck> failed = failed_checks(centrifuge_checks(s));
-    if (progress != nullptr)
-      *progress << fmt::format(
-          "study: {} done in {:.1f} s: head force {:.1f} N, capacity {:.1f} N{}\n", files[k],
-          s.wall_seconds, s.installation_head_force, s.capacity,
-          failed.empty() ? std::string() : fmt::format(", FAILED {} of its checks", failed.size()));
+    to_run.push_back(k);
+  }
+  std::vector<CentrifugeStudyFailure> unfinished;
+  if (options.jobs > 1) {
+    unfinished = run_as_children(options, out_dir, files, to_run, progress);
+  } else {
+    for (const std::size_t k : to_run) {
+      const std::filesystem::path dir = out_dir / stem(files[k]);
+      if (progress != nullptr)
+        *progress << fmt::format("study: running {} ({}/{})\n", files[k], k + 1, files.size())
+                  << std::flush;
+      // The case's folder is the study's own: what an earlier, unfinished run of the case left
+      // there is replaced.
+      OutputFolderOptions folder;
+      folder.overwrite = true;
+      claim_output_folder(dir, folder);
+      CentrifugeRunOptions run_options;
+      run_options.plots = options.plots;
+      run_options.python = options.python;
+      const CentrifugeSummary s =
+          run_centrifuge(scenarios[k].first, scenarios[k].second, dir, progress, run_options);
+      const std::vector<CentrifugeCheck> failed = failed_checks(centrifuge_checks(s));
+      if (progress != nullptr)
+        *progress << fmt::format(
+            "study: {} done in {:.1f} s: head force {:.1f} N, capacity "
+            "{:.1f} N{}\n",
+            files[k], s.wall_seconds, s.installation_head_force, s.capacity,
+            failed.empty() ? std::string()
+                           : fmt::format(", FAILED {} of its checks", failed.size()));
+    }
   }
 
   // The comparisons and the table.
@@ -313,8 +467,19 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
         "[s] | checks |\n|---|---|---|---|---|---|---|---|---|\n";
     for (const CentrifugeStudyCase& c : g->cases) {
       const std::filesystem::path file = out_dir / stem(c.file) / "summary.csv";
+      const auto not_finished =
+          std::find_if(unfinished.begin(), unfinished.end(),
+                       [&c](const CentrifugeStudyFailure& f) { return f.file == c.file; });
+      if (not_finished != unfinished.end() && !listed_already(failures, c.file))
+        failures.push_back(*not_finished);
       if (!std::filesystem::exists(file)) {
-        readme += fmt::format("| {} | `{}` | not run | | | | | | |\n", c.label, c.file);
+        readme += not_finished == unfinished.end()
+                      ? fmt::format("| {} | `{}` | not run | | | | | | |\n", c.label, c.file)
+                      : fmt::format(
+                            "| {} | `{}` | **did not finish**: {} (log `{}`) | | | | | "
+                            "| |\n",
+                            c.label, c.file, not_finished->ended,
+                            not_finished->log.lexically_relative(out_dir).string());
         continue;
       }
       const NumericTable t = read_numeric_csv(file);
@@ -325,11 +490,8 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
           cell(t, "load_test_capacity_N", "{:.1f}"), cell(t, "equilibrium_error", "{:.2f}", 100.0),
           cell(t, "max_kinetic_to_work", "{:.3f}", 100.0), cell(t, "wall_time_s", "{:.0f}"),
           checks_cell(failed));
-      const bool listed =
-          std::any_of(failures.begin(), failures.end(),
-                      [&c](const CentrifugeStudyFailure& f) { return f.file == c.file; });
-      if (!failed.empty() && !listed) {
-        CentrifugeStudyFailure failure{c.file, {}};
+      if (!failed.empty() && !listed_already(failures, c.file, true)) {
+        CentrifugeStudyFailure failure{c.file, {}, "", {}};
         for (const CentrifugeCheck& check : failed) failure.checks.push_back(check.text());
         failures.push_back(std::move(failure));
       }
@@ -348,6 +510,29 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
       *progress << fmt::format("study: the figures were not drawn: {}\n", plots.problem);
   }
   return failures;
+}
+
+std::size_t write_centrifuge_study_commands(const CentrifugeStudyOptions& options,
+                                            const std::filesystem::path& out_dir,
+                                            const std::filesystem::path& file) {
+  const std::vector<std::string> files = case_files(chosen_groups(options.groups));
+  (void)read_cases(options.cases_dir, files);  // every case file checked before anything runs
+  check_program(options);
+  prepare_output_directory(out_dir / "logs");
+  std::string text;
+  std::size_t lines = 0;
+  for (const std::string& case_file : files) {
+    if (options.resume && std::filesystem::exists(out_dir / stem(case_file) / "summary.csv"))
+      continue;
+    const ChildRun run = child_run(options, out_dir, case_file, true);
+    note_output_file(run.log);  // written by the shell, a file of the study
+    // One thread per run unless the environment says otherwise (a Slurm task with several
+    // CPUs: OMP_NUM_THREADS=$SLURM_CPUS_PER_TASK).
+    text += shell_command(run, {"OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}"}) + "\n";
+    ++lines;
+  }
+  write_file_atomically(file, text);
+  return lines;
 }
 
 }  // namespace pilempm

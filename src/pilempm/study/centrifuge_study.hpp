@@ -32,20 +32,43 @@ struct CentrifugeStudyOptions {
   bool report_only = false;         ///< run nothing: the comparisons of the runs that exist
   bool plots = true;
   std::string python;
+  /// Runs at once. 1: one after the other in this process (each on the threads of its case
+  /// file, `[solver] threads`). More: each run a child process `program centrifuge run CASE
+  /// --out DIR/<case> --overwrite` with OMP_NUM_THREADS=1, its output in DIR/logs/<case>.log.
+  int jobs = 1;
+  /// The pilempm program for the child runs and the command list (an absolute path).
+  std::filesystem::path program;
 };
 
-/// A run of the study that failed its own checks (scenario/centrifuge/run_checks.hpp).
+/// A run of the study that failed its own checks (scenario/centrifuge/run_checks.hpp), or, with
+/// jobs > 1, a child run that did not finish (`ended` says how; `checks` is then empty).
 struct CentrifugeStudyFailure {
   std::string file;                 ///< the case file, e.g. "md_original.toml"
   std::vector<std::string> checks;  ///< each failed check's text
+  std::string ended;                ///< a run that did not finish: "exit code 2", ...; else ""
+  std::filesystem::path log;        ///< that run's log file
+  bool finished() const { return ended.empty(); }
 };
 
-/// Runs the study into `out_dir`; progress lines go to `progress` (nullptr: none). Throws
-/// InputError naming an unknown group or a case file that is missing or wrong, before any run.
-/// Returns the runs of the chosen groups that exist and failed their own checks (README.md
-/// marks them FAILED); their results are kept.
+/// Runs the study into `out_dir`; progress lines go to `progress` (nullptr: none; with jobs > 1
+/// one line as each run ends, in the order they end). Throws InputError naming an unknown group
+/// or a case file that is missing or wrong, before any run. Returns, in the order of the study's
+/// cases, the runs that did not finish (jobs > 1; the others still run) and the runs of the
+/// chosen groups that exist and failed their own checks (README.md marks both); their results
+/// are kept.
 std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOptions& options,
                                                          const std::filesystem::path& out_dir,
                                                          std::ostream* progress);
+
+/// The runs of the study as a command list: one shell command line per case file of the chosen
+/// groups (without those kept by `resume`), in the study's order, each `program centrifuge run
+/// CASE --out DIR/<case> --overwrite` with absolute paths and its output into
+/// DIR/logs/<case>.log, one thread per run unless OMP_NUM_THREADS is set. GNU parallel
+/// (`parallel -j N < FILE`) or a Slurm job array (line $SLURM_ARRAY_TASK_ID) runs them; then
+/// run_centrifuge_study with report_only gathers them. Reads and checks every case file first
+/// (InputError), creates DIR/logs/, writes `file` (atomically) and returns the number of lines.
+std::size_t write_centrifuge_study_commands(const CentrifugeStudyOptions& options,
+                                            const std::filesystem::path& out_dir,
+                                            const std::filesystem::path& file);
 
 }  // namespace pilempm
