@@ -291,8 +291,9 @@ TEST(CentrifugeStudy, FullModelCasesJackAtTheSpeedWhereTheFullModelConverges) {
           full_model_files.end())
         full_model_files.push_back(c.file);
     }
-  // Six installation cases, MPM-4 and the stress-dependent alpha (MPM-1 is not jacked).
-  EXPECT_EQ(full_model_files.size(), 8U);
+  // Six installation cases, MPM-4, MPM-2 with Mohr-Coulomb sand and the stress-dependent alpha
+  // (MPM-1 is not jacked).
+  EXPECT_EQ(full_model_files.size(), 9U);
 }
 
 TEST(CentrifugeStudy, UnknownGroupIsAnError) {

@@ -37,6 +37,20 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
       s.materials.push_back(*material);
   s.integrator = catalog.integrator();
 
+  // The analysis first: it decides which keys of the other tables apply.
+  if (auto t = root.table("solver"))
+    if (t->optional_choice("analysis", {"explicit", "quasi-static"}).value_or("explicit") ==
+        "quasi-static")
+      s.analysis = simulation::MpmAnalysis::quasi_static;
+  const bool quasi_static = s.analysis == simulation::MpmAnalysis::quasi_static;
+  // A key of the explicit analysis in a quasi-static case.
+  auto refuse_explicit = [&](TableReader& t, const char* key) {
+    if (quasi_static && t.contains(key))
+      throw t.error(key,
+                    "applies to analysis = \"explicit\" only (this case runs analysis = "
+                    "\"quasi-static\", which has no inertia, damping or force averaging)");
+  };
+
   if (auto t = root.table("test")) {
     s.pile_diameter =
         t->number_or("pile_diameter_mm", s.pile_diameter * 1e3, NumberRange::positive()) * 1e-3;
@@ -52,23 +66,44 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   if (auto t = root.table("sand")) {
     s.installation_material = t->optional_string("material").value_or(s.installation_material);
     const MaterialSpec* material = catalog.find(s.installation_material);
-    if (material == nullptr || !material->is_hypoplastic())
-      throw t->error("material", fmt::format("not a hypoplastic material: must be a built-in set "
-                                             "or a [[material]] of the file ({})",
+    if (material == nullptr)
+      throw t->error("material", fmt::format("unknown: must be a built-in set or a [[material]] "
+                                             "of the file ({})",
                                              fmt::join(catalog.names(), ", ")));
-    s.material_phi_c_deg = material->hypoplastic().phi_c_deg;
+    const bool hypoplastic = material->is_hypoplastic();
+    s.material_phi_c_deg = material_friction_angle_deg(*material);
     if (auto name = t->optional_string("load_test_material")) {
       const MaterialSpec* other = catalog.find(*name);
-      if (other == nullptr || !other->is_hypoplastic())
+      if (other == nullptr)
         throw t->error("load_test_material",
-                       fmt::format("not a hypoplastic material: must be a built-in set or a "
-                                   "[[material]] of the file ({})",
+                       fmt::format("unknown: must be a built-in set or a [[material]] of the "
+                                   "file ({})",
                                    fmt::join(catalog.names(), ", ")));
+      // The MPM-4 switch: each point keeps its stress, void ratio and intergranular strain.
+      if (!hypoplastic || !other->is_hypoplastic())
+        throw t->error("load_test_material",
+                       fmt::format("not allowed: the load-test set replaces one hypoplastic set "
+                                   "by another (each point keeps its stress, void ratio and "
+                                   "intergranular strain), and \"{}\" is {}, \"{}\" is {}",
+                                   s.installation_material, material->model, *name, other->model));
       s.load_test_material = *name;
     }
-    s.igs = t->optional_choice("igs", igs_choice_names()).value_or(s.igs);
-    s.e0 = t->number("e0", NumberRange::open(0.0, 5.0));
-    s.e0_at = t->choice("e0_at", {"initial-stress", "zero-pressure"});
+    if (hypoplastic) {
+      s.igs = t->optional_choice("igs", igs_choice_names()).value_or(s.igs);
+      s.e0 = t->number("e0", NumberRange::open(0.0, 5.0));
+      s.e0_at = t->choice("e0_at", {"initial-stress", "zero-pressure"});
+    } else {
+      // The void ratio every model carries (the default density, the fields); the intergranular
+      // strain and Bauer's scaling of e0 belong to the hypoplastic model.
+      for (const char* key : {"igs", "e0_at"})
+        if (t->contains(key))
+          throw t->error(key, fmt::format("not allowed: it belongs to the hypoplastic model, and "
+                                          "material \"{}\" is {} (e0 is the void ratio at the "
+                                          "initial stress)",
+                                          s.installation_material, material->model));
+      s.e0 = t->number("e0", NumberRange::open(0.0, 5.0));
+      s.e0_at = "initial-stress";
+    }
     s.density = t->optional_number("density_kg_per_m3", NumberRange::positive());
     s.grain_density =
         t->number_or("grain_density_kg_per_m3", s.grain_density, NumberRange::positive());
@@ -90,6 +125,7 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   }
 
   if (auto t = root.table("initial_stress")) {
+    refuse_explicit(*t, "local_damping");
     s.initial_stress_time =
         t->number_or("duration_s", s.initial_stress_time, NumberRange::positive());
     s.initial_stress_damping =
@@ -109,6 +145,7 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   }
 
   if (auto t = root.table("relaxation")) {
+    refuse_explicit(*t, "force_averaging_s");
     s.relaxation = t->boolean_or("enabled", s.relaxation);
     s.relaxation_motion = read_motion(*t, s.relaxation_motion);
     s.relaxation_max_D = t->number_or("max_travel_D", s.relaxation_max_D, NumberRange::positive());
@@ -137,6 +174,15 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   }
 
   if (auto t = root.table("solver")) {
+    (void)t->optional_choice("analysis", {"explicit", "quasi-static"});  // read above
+    for (const char* key :
+         {"mass_scaling", "courant_number", "flip_fraction", "xpic_order", "local_damping"})
+      refuse_explicit(*t, key);
+    if (!quasi_static && t->contains("displacement_step_D"))
+      throw t->error("displacement_step_D",
+                     "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
+    s.displacement_step_D =
+        t->number_or("displacement_step_D", s.displacement_step_D, NumberRange::closed(1e-4, 1.0));
     s.mass_scaling = t->number_or("mass_scaling", s.mass_scaling, NumberRange::at_least(1.0));
     s.courant_number =
         t->number_or("courant_number", s.courant_number, NumberRange::left_open(0.0, 1.0));

@@ -76,7 +76,7 @@ std::string fields_csv(const mpm::MpmState& solver, double surface) {
   std::string text =
       "# the sand's particles: r_mm from the axis, depth_mm below the initial sand surface, "
       "p and q in kPa (compression positive), igs_rho = ||delta|| / R of the intergranular "
-      "strain\nr_mm,depth_mm,void_ratio,p_kPa,q_kPa,igs_rho\n";
+      "strain (0 for sand without one)\nr_mm,depth_mm,void_ratio,p_kPa,q_kPa,igs_rho\n";
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const MaterialState& state = particles.state[p];
     const double R = igs_size[static_cast<std::size_t>(particles.material[p])];
@@ -147,11 +147,17 @@ std::string checks_markdown(const std::vector<CentrifugeCheck>& checks) {
 std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummary& r) {
   auto value = [](double v, const char* format) { return shown_number(v, format); };
   std::string md = fmt::format("# {}\n\n", r.title);
+  const std::string sand =
+      scenario_sand_is_hypoplastic(s)
+          ? fmt::format("e0 = {:g} ({}), set \"{}\" with {}", s.e0, s.e0_at,
+                        s.installation_material, s.igs)
+          : fmt::format("e0 = {:g}, material \"{}\" ({})", s.e0, s.installation_material,
+                        scenario_material(s, s.installation_material).model);
   md += fmt::format(
-      "D = {:g} mm at {:g} g, container R = {:g} D, sand H = {:g} D, e0 = {:g} ({}), set \"{}\" "
-      "with {}, pile wished in place at {:g} D, installed {:g} D.\n\n",
-      1e3 * s.pile_diameter, s.g_level, s.container_radius_D, s.sand_height_D, s.e0, s.e0_at,
-      s.installation_material, s.igs, s.wished_in_place_D, s.installation_D);
+      "D = {:g} mm at {:g} g, container R = {:g} D, sand H = {:g} D, {}, {} analysis, pile "
+      "wished in place at {:g} D, installed {:g} D.\n\n",
+      1e3 * s.pile_diameter, s.g_level, s.container_radius_D, s.sand_height_D, sand,
+      to_string(s.analysis), s.wished_in_place_D, s.installation_D);
   md += checks_markdown(centrifuge_checks(r));
   md += "| quantity | value |\n|---|---|\n";
   md += fmt::format(
@@ -282,12 +288,15 @@ FigureSpec centrifuge_field_figure(const CentrifugeScenario& s, const std::strin
   const double mm = 1e3 * s.pile_diameter;
   const double deepest = s.wished_in_place_D + s.installation_D;
   // Fixed scales, so that runs can be compared: e from dense to loose, stresses logarithmic
-  // from the overburden near the surface to the tip's MPa.
+  // from the overburden near the surface to the tip's MPa. The IGS panel for hypoplastic sand.
+  const bool hypoplastic = scenario_sand_is_hypoplastic(s);
+  if (!hypoplastic) f.cols = 3;
   for (auto [column, label, map, low, high, log] :
        {std::tuple{"void_ratio", "void ratio [-]", "viridis", 0.55, 0.95, false},
         {"p_kPa", "p [kPa]", "magma", 5.0, 5000.0, true},
         {"q_kPa", "q [kPa]", "magma", 5.0, 5000.0, true},
         {"igs_rho", "IGS rho [-]", "cividis", 0.0, 1.0, false}}) {
+    if (!hypoplastic && std::string_view(column) == "igs_rho") continue;
     PanelSpec panel;
     panel.x.label = "r [mm]";
     panel.y.label = "depth [mm]";

@@ -9,6 +9,8 @@
 #include <numbers>
 
 #include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
+#include "pilempm/constitutive/model_registry.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/mpm/grid.hpp"
@@ -50,7 +52,28 @@ double phase_duration(double travel, const PileMotion& motion) {
 
 }  // namespace
 
+double material_friction_angle_deg(const MaterialSpec& material) {
+  if (material.is_hypoplastic()) return material.hypoplastic().phi_c_deg;
+  if (const auto* mc = material.parameters_as<MohrCoulombParameters>())
+    return mc->friction_angle_deg;
+  return 0.0;
+}
+
+MaterialSpec scenario_material(const CentrifugeScenario& s, const std::string& name) {
+  for (const MaterialSpec& m : s.materials)
+    if (m.name == name) return m;
+  return builtin_material(name);
+}
+
+bool scenario_sand_is_hypoplastic(const CentrifugeScenario& s) {
+  return std::none_of(s.materials.begin(), s.materials.end(), [&](const MaterialSpec& m) {
+    return m.name == s.installation_material && !m.is_hypoplastic();
+  });
+}
+
 double scenario_friction_angle_deg(const CentrifugeScenario& s) {
+  for (const MaterialSpec& m : s.materials)
+    if (m.name == s.installation_material) return material_friction_angle_deg(m);
   if (is_builtin_set(s.installation_material))
     return hypoplastic_set(s.installation_material).phi_c_deg;
   return s.material_phi_c_deg;
@@ -58,6 +81,10 @@ double scenario_friction_angle_deg(const CentrifugeScenario& s) {
 
 double scenario_K0(const CentrifugeScenario& s) {
   if (s.K0) return *s.K0;
+  // A [[material]] of another model: its own at-rest value (ν / (1 − ν) for linear elasticity).
+  for (const MaterialSpec& m : s.materials)
+    if (m.name == s.installation_material && !m.is_hypoplastic())
+      return model_registry().at(m.model).at_rest_K0(*m.parameters);
   return 1.0 - std::sin(scenario_friction_angle_deg(s) * std::numbers::pi / 180.0);
 }
 
@@ -101,9 +128,18 @@ void validate(const CentrifugeScenario& s) {
   require(s.load_test_motion.velocity > 0.0, "load_test.velocity_m_per_s",
           s.load_test_motion.velocity, "> 0");
   require(s.record_interval_D > 0.0, "output.record_interval_D", s.record_interval_D, "> 0");
-  if (!is_builtin_set(s.installation_material))
+  const bool own_table =
+      std::any_of(s.materials.begin(), s.materials.end(),
+                  [&](const MaterialSpec& m) { return m.name == s.installation_material; });
+  if (!is_builtin_set(s.installation_material) && !own_table)
     require(s.material_phi_c_deg > 0.0, "sand.material", s.material_phi_c_deg,
             "a built-in set or a [[material]] table of the file");
+  if (!s.interface_friction_angle_deg && !(scenario_friction_angle_deg(s) > 0.0))
+    throw InvalidValue("pile.interface_friction_angle_deg", "(missing)",
+                       fmt::format("given, in [0, 89] deg: the default 2/3 of the sand's friction "
+                                   "angle needs one, and material \"{}\" has no friction angle",
+                                   s.installation_material));
+  require(s.displacement_step_D > 0.0, "solver.displacement_step_D", s.displacement_step_D, "> 0");
 }
 
 std::vector<ScenarioPhase> scenario_phases(const CentrifugeScenario& s) {
@@ -162,13 +198,6 @@ double file_value(double value) {
   return std::strtod(fmt::format("{:.9g}", value).c_str(), nullptr);
 }
 
-// The scenario's material by name: a [[material]] of its file, else a built-in set.
-MaterialSpec scenario_material(const CentrifugeScenario& s, const std::string& name) {
-  for (const MaterialSpec& m : s.materials)
-    if (m.name == name) return m;
-  return builtin_material(name);
-}
-
 }  // namespace
 
 simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::string& source_name) {
@@ -204,14 +233,20 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
   mpm::SolverSettings& solver = c.solver;
   solver.gravity = v(s.gravity);
   solver.gravity_multiplier = v(s.g_level);
-  solver.mass_scaling = v(s.mass_scaling);
-  solver.courant_number = v(s.courant_number);
-  solver.flip_fraction = v(s.flip_fraction);
-  solver.xpic_order = s.xpic_order;
   solver.threads = s.threads;
-  solver.volumetric_smoothing = s.volumetric_smoothing;
-  solver.local_damping = v(s.damping);
+  solver.volumetric_smoothing = s.volumetric_smoothing;  // B-bar in the quasi-static analysis
   solver.geometry = c.geometry;
+  c.analysis = s.analysis;
+  const bool quasi_static = s.analysis == MpmAnalysis::quasi_static;
+  if (quasi_static) {
+    c.displacement_step = v(s.displacement_step_D * D);
+  } else {  // the explicit analysis's own settings (the quasi-static case keeps the defaults)
+    solver.mass_scaling = v(s.mass_scaling);
+    solver.courant_number = v(s.courant_number);
+    solver.flip_fraction = v(s.flip_fraction);
+    solver.xpic_order = s.xpic_order;
+    solver.local_damping = v(s.damping);
+  }
   c.integrator = s.integrator;
   c.materials = s.materials;
 
@@ -232,12 +267,14 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
     r.fill.density = v(s.sand_density());
     r.fill.material = index;
     r.material = sand;
-    r.igs = named_igs(s.igs);
-    r.igs_in_region = true;
+    if (sand.is_hypoplastic()) {
+      r.igs = named_igs(s.igs);
+      r.igs_in_region = true;
+      r.e0_at = parse_void_ratio_convention(s.e0_at, "e0_at");
+    }  // other models: no intergranular strain, e0 at the initial stress
     r.initial_stress = MpmInitialStress::geostatic;
     r.K0 = v(scenario_K0(s));
     r.e0 = v(s.e0);
-    r.e0_at = parse_void_ratio_convention(s.e0_at, "e0_at");
     c.models.push_back(make_model(r.material, r.igs, s.integrator));
     c.material_names.push_back(r.material.name);
     c.regions.push_back(std::move(r));
@@ -284,9 +321,12 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
   };
   const std::vector<ScenarioPhase> roles = scenario_phases(s);
   std::size_t next = 0;
-  MpmPhase initial = phase(roles[next++], s.initial_stress_time, s.initial_stress_time / 20.0);
+  // Explicit: records through the K0 phase while the sand settles; quasi-static: one load step
+  // to equilibrium under N g, recorded at its end.
+  MpmPhase initial = phase(roles[next++], s.initial_stress_time,
+                           quasi_static ? s.initial_stress_time : s.initial_stress_time / 20.0);
   initial.kind = MpmPhaseKind::geostatic;
-  initial.local_damping = v(s.initial_stress_damping);
+  if (!quasi_static) initial.local_damping = v(s.initial_stress_damping);
   c.phases.push_back(initial);
   const double record = s.record_interval_D * D;
   if (s.installation_D > 0.0) {
@@ -309,7 +349,8 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
       // In the order the case file's reader takes them: displacement rules before force rules.
       stop(p, "stop_phase_displacement_y_m", MpmStopQuantity::phase_displacement, v(travel));
       stop(p, "stop_force_y_below_N", MpmStopQuantity::force_below, 0.0);
-      p.stop_force_averaging = v(s.relaxation_force_averaging);
+      // The quasi-static analysis finds the zero of the head force by bisection of a load step.
+      if (!quasi_static) p.stop_force_averaging = v(s.relaxation_force_averaging);
       move(p, 1.0, s.relaxation_motion);
       c.phases.push_back(std::move(p));
     }

@@ -32,25 +32,35 @@ struct CentrifugeScenario {
   double sand_height_D = 35.0;
 
   // The sand. A material is a built-in set name or the name of one of `materials` (the
-  // scenario's [[material]] tables, which become the case's).
+  // scenario's [[material]] tables, which become the case's), of any registered model: the
+  // hypoplastic sets, Mohr-Coulomb or linear elasticity. igs, e0_at = "zero-pressure" and a
+  // load-test set apply to hypoplastic sand only; every model carries the void ratio e0.
   double e0 = 0.68;
-  std::string e0_at = "initial-stress";  ///< "initial-stress" or "zero-pressure"
+  std::string e0_at = "initial-stress";  ///< "initial-stress" or "zero-pressure" (hypoplastic)
   std::optional<double> density;         ///< [kg/m^3]; default ρ_d = G_s ρ_w / (1 + e0)
   double grain_density = 2650.0;         ///< G_s ρ_w [kg/m^3] (G_s = 2.65 assumed)
-  std::optional<double> K0;              ///< default 1 − sin φ_c of the installation set
-  std::string igs = "IGS3";
+  std::optional<double> K0;              ///< default: the installation material's (scenario_K0)
+  std::string igs = "IGS3";  ///< of hypoplastic sand; other models have no intergranular strain
   std::string installation_material = "original";  ///< the set of the K0 and installation phases
   std::string load_test_material;                  ///< "" = the installation set
   std::vector<MaterialSpec> materials;  ///< the [[material]] tables as read (the typed case's)
   IntegratorSettings integrator{};      ///< the [integrator] table as read
-  /// φ_c of the installation set when it is a [[material]] table [deg] (the reader sets it;
-  /// built-in sets are looked up).
+  /// The friction angle of the installation material when it is a [[material]] table [deg]: φ_c
+  /// of a hypoplastic set, φ of a Mohr-Coulomb one, 0 for a model without one (linear
+  /// elasticity); the reader sets it (material_friction_angle_deg), built-in sets are looked up.
   double material_phi_c_deg = 0.0;
 
   // The pile.
   std::string tip = "conical";  ///< "conical" or "flat"
   double apex_angle_deg = 60.0;
   std::optional<double> interface_friction_angle_deg;  ///< default 2/3 φ_c
+
+  // The analysis: explicit dynamics (the default) or quasi-static load steps of at most
+  // displacement_step_D of pile travel (docs/mpm-case-files.md, "Analyses"). The settings from
+  // mass_scaling to xpic_order, the local damping of the phases and the relaxation's force
+  // averaging belong to the explicit analysis and are not used by the quasi-static one.
+  simulation::MpmAnalysis analysis = simulation::MpmAnalysis::explicit_dynamic;
+  double displacement_step_D = 0.025;
 
   // The phases.
   double wished_in_place_D = 10.0;  ///< tip depth below the surface when the pile is put in
@@ -109,12 +119,22 @@ struct CentrifugeScenario {
   double sand_density() const { return density ? *density : grain_density / (1.0 + e0); }
 };
 
-/// φ_c of the installation set [deg]: the built-in set's, else material_phi_c_deg. Used for
-/// the defaults of K0 and δ.
+/// The friction angle of a material [deg]: φ_c of a hypoplastic set, φ of a Mohr-Coulomb
+/// material, 0 for a model without one (linear elasticity).
+double material_friction_angle_deg(const MaterialSpec& material);
+/// The scenario's material by name: one of its [[material]] tables, else a built-in set (throws
+/// InvalidValue when neither).
+MaterialSpec scenario_material(const CentrifugeScenario& scenario, const std::string& name);
+/// Whether the installation material is a hypoplastic set (built-in or a [[material]] table).
+bool scenario_sand_is_hypoplastic(const CentrifugeScenario& scenario);
+/// The friction angle of the installation material [deg]: that of its [[material]] table, else
+/// the built-in set's φ_c, else material_phi_c_deg. Used for the defaults of K0 and δ.
 double scenario_friction_angle_deg(const CentrifugeScenario& scenario);
-/// K0 used: the given one or 1 − sin φ_c.
+/// K0 used: the given one, else the model's at-rest value of the installation material (1 − sin
+/// φ_c hypoplastic, 1 − sin φ Mohr-Coulomb, ν / (1 − ν) linear elastic).
 double scenario_K0(const CentrifugeScenario& scenario);
-/// δ used [deg]: the given one or 2/3 φ_c.
+/// δ used [deg]: the given one or 2/3 of the installation material's friction angle (a model
+/// without one needs it given: validate() says so).
 double scenario_interface_friction_deg(const CentrifugeScenario& scenario);
 
 /// Checks that the pieces fit together (the pile inside the sand, the fine zone inside the

@@ -1,0 +1,250 @@
+// Centrifuge case files with sand of any registered model and with the quasi-static analysis
+// (docs/centrifuge.md): a Mohr-Coulomb or linear elastic [[material]] as the sand, read by the
+// model's own reader of the registry, with its K0 and δ defaults; the keys of another model (in
+// the [[material]] or in [sand]) and the MPM-4 switch with such sand as errors naming the file,
+// the line and the key; [solver] analysis = "quasi-static" with displacement_step_D, the keys of
+// the explicit analysis refused in it, and the typed quasi-static case written as mpm_case.toml
+// reading back as the same case.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "../support/centrifuge_case_texts.hpp"
+#include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
+#include "pilempm/core/error.hpp"
+#include "pilempm/io/centrifuge_case.hpp"
+#include "pilempm/io/mpm_case.hpp"
+
+namespace pilempm {
+namespace {
+
+using namespace scenario;
+using namespace simulation;
+
+constexpr double kDegree = kPi / 180.0;
+
+const std::string kMohrCoulomb = std::string("title = \"Mohr-Coulomb sand\"\n") +
+                                 test_support::kMohrCoulombSandMaterial + R"([sand]
+material = "mc-sand"
+e0 = 0.68
+[test]
+container_radius_D = 6.0
+sand_height_D = 12.0
+[installation]
+wished_in_place_D = 3.0
+depth_D = 2.0
+)";
+
+const char* const kElastic = R"(title = "elastic sand"
+[[material]]
+name = "elastic-sand"
+model = "linear-elastic"
+young_modulus_MPa = 50.0
+poisson_ratio = 0.25
+[sand]
+material = "elastic-sand"
+e0 = 0.7
+[pile]
+interface_friction_angle_deg = 20.0
+)";
+
+// `text` with `line` inserted after the first line that starts with `after`.
+std::string with_line(const std::string& text, const std::string& after, const std::string& line) {
+  std::istringstream in(text);
+  std::string out, current;
+  bool done = false;
+  while (std::getline(in, current)) {
+    out += current + "\n";
+    if (!done && current.rfind(after, 0) == 0) {
+      out += line + "\n";
+      done = true;
+    }
+  }
+  EXPECT_TRUE(done) << after;
+  return out;
+}
+
+// The 1-based number of the first line of `text` that starts with `start`.
+long line_starting(const std::string& text, const std::string& start) {
+  std::istringstream in(text);
+  std::string current;
+  for (long n = 1; std::getline(in, current); ++n)
+    if (current.rfind(start, 0) == 0) return n;
+  ADD_FAILURE() << "no line starts with " << start;
+  return -1;
+}
+
+// The text is refused with an error at the line starting with `at` (none: no line) for `key`,
+// whose message holds `reason`.
+void expect_refused(const std::string& text, const std::string& at, const std::string& key,
+                    const std::string& reason) {
+  try {
+    (void)read_centrifuge_case_text(text, "case.toml");
+    ADD_FAILURE() << "accepted:\n" << text;
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "case.toml");
+    EXPECT_EQ(e.key(), key) << e.what();
+    if (!at.empty()) {
+      EXPECT_EQ(e.line(), line_starting(text, at)) << e.what();
+    }
+    EXPECT_NE(std::string(e.what()).find(reason), std::string::npos) << e.what();
+  }
+}
+
+TEST(CentrifugeCaseModels, MohrCoulombSandIsReadByItsModelsReaderWithItsDefaults) {
+  const CentrifugeScenario s = read_centrifuge_case_text(kMohrCoulomb, "case.toml");
+  EXPECT_FALSE(scenario_sand_is_hypoplastic(s));
+  const MaterialSpec sand = scenario_material(s, "mc-sand");
+  ASSERT_NE(sand.parameters_as<MohrCoulombParameters>(), nullptr);
+  EXPECT_DOUBLE_EQ(sand.parameters_as<MohrCoulombParameters>()->young_modulus, 150e6);
+  // K0 = 1 − sin φ (Jáky) and δ = 2/3 φ, with φ the Mohr-Coulomb friction angle.
+  EXPECT_NEAR(scenario_K0(s), 1.0 - std::sin(33.0 * kDegree), 1e-12);
+  EXPECT_NEAR(scenario_interface_friction_deg(s), 22.0, 1e-12);
+
+  const MpmCase c = centrifuge_to_mpm_case(s, "mpm_case.toml");
+  ASSERT_FALSE(c.regions.empty());
+  for (const MpmRegion& r : c.regions) {
+    EXPECT_EQ(r.material.model, "mohr-coulomb");
+    EXPECT_FALSE(r.igs.has_value());  // no intergranular strain
+    EXPECT_DOUBLE_EQ(r.e0, 0.68);     // the void ratio the particles carry
+    EXPECT_EQ(r.e0_at, VoidRatioConvention::at_initial_stress);
+    EXPECT_NEAR(r.K0, 1.0 - std::sin(33.0 * kDegree), 1e-8);
+    EXPECT_NEAR(r.fill.density, 2650.0 / 1.68, 1e-5);
+  }
+  EXPECT_NEAR(c.bodies.at(0).friction, std::tan(22.0 * kDegree), 1e-8);
+}
+
+TEST(CentrifugeCaseModels, LinearElasticSandHasTheOedometricK0AndNeedsAnInterfaceAngle) {
+  const CentrifugeScenario s = read_centrifuge_case_text(kElastic, "case.toml");
+  EXPECT_NEAR(scenario_K0(s), 0.25 / 0.75, 1e-12);  // ν / (1 − ν)
+  EXPECT_NEAR(scenario_interface_friction_deg(s), 20.0, 1e-12);
+  const MpmCase c = centrifuge_to_mpm_case(s, "mpm_case.toml");
+  for (const MpmRegion& r : c.regions) {
+    EXPECT_EQ(r.material.model, "linear-elastic");
+    EXPECT_NEAR(r.K0, 1.0 / 3.0, 1e-8);
+  }
+  // Without δ: elasticity has no friction angle to take 2/3 of.
+  std::string without = kElastic;
+  without.erase(without.find("[pile]"));
+  expect_refused(without, "", "pile.interface_friction_angle_deg", "no friction angle");
+}
+
+TEST(CentrifugeCaseModels, KeysOfAnotherModelAreErrorsAtTheirLine) {
+  // In the [[material]]: a hypoplastic key in a Mohr-Coulomb table, a missing key, a bad value.
+  expect_refused(with_line(kMohrCoulomb, "dilatancy_angle_deg", "h_s_MPa = 4000"), "h_s_MPa",
+                 "material[0].h_s_MPa", "unknown");
+  std::string no_friction = kMohrCoulomb;
+  no_friction.erase(no_friction.find("friction_angle_deg = 33.0\n"), 26);
+  expect_refused(no_friction, "", "material[0].friction_angle_deg", "missing");
+  std::string steep = kMohrCoulomb;
+  steep.replace(steep.find("dilatancy_angle_deg = 5.0"), 25, "dilatancy_angle_deg = 40.0");
+  expect_refused(steep, "dilatancy_angle_deg", "material[0].dilatancy_angle_deg", "33");
+  // In [sand]: the intergranular strain and Bauer's scaling belong to the hypoplastic model.
+  for (const char* line : {"igs = \"IGS3\"", "e0_at = \"initial-stress\""}) {
+    const std::string key = std::string(line).substr(0, std::string(line).find(' '));
+    expect_refused(with_line(kMohrCoulomb, "e0 = 0.68", line), key, "sand." + key,
+                   "belongs to the hypoplastic model");
+  }
+  expect_refused(with_line(kMohrCoulomb, "e0 = 0.68", "h_s_MPa = 4000"), "h_s_MPa", "sand.h_s_MPa",
+                 "unknown");
+  // The MPM-4 switch replaces one hypoplastic set by another.
+  expect_refused(with_line(kMohrCoulomb, "e0 = 0.68", "load_test_material = \"original\""),
+                 "load_test_material", "sand.load_test_material", "mohr-coulomb");
+  std::string hypoplastic = with_line(kMohrCoulomb, "e0 = 0.68",
+                                      "igs = \"IGS3\"\ne0_at = \"initial-stress\"\n"
+                                      "load_test_material = \"mc-sand\"");
+  hypoplastic.replace(hypoplastic.find("material = \"mc-sand\""), 20, "material = \"original\"");
+  expect_refused(hypoplastic, "load_test_material", "sand.load_test_material", "mohr-coulomb");
+  // The void ratio is the sand's, for every model.
+  std::string no_e0 = kMohrCoulomb;
+  no_e0.erase(no_e0.find("e0 = 0.68\n"), 10);
+  expect_refused(no_e0, "", "sand.e0", "missing");
+}
+
+std::string quasi_static(const std::string& text, const std::string& solver_lines = "") {
+  return text + "[solver]\nanalysis = \"quasi-static\"\n" + solver_lines;
+}
+
+TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheLoadStepInDiameters) {
+  const CentrifugeScenario explicit_case = read_centrifuge_case_text(kMohrCoulomb, "case.toml");
+  EXPECT_EQ(explicit_case.analysis, MpmAnalysis::explicit_dynamic);  // the default
+  const CentrifugeScenario s = read_centrifuge_case_text(quasi_static(kMohrCoulomb), "case.toml");
+  EXPECT_EQ(s.analysis, MpmAnalysis::quasi_static);
+  const MpmCase c = centrifuge_to_mpm_case(s, "mpm_case.toml");
+  EXPECT_EQ(c.analysis, MpmAnalysis::quasi_static);
+  EXPECT_NEAR(c.displacement_step, 0.025 * 0.0113, 1e-12);  // displacement_step_D = 0.025
+  const CentrifugeScenario fine = read_centrifuge_case_text(
+      quasi_static(kMohrCoulomb, "displacement_step_D = 0.01\n"), "case.toml");
+  EXPECT_NEAR(centrifuge_to_mpm_case(fine, "mpm_case.toml").displacement_step, 0.01 * 0.0113,
+              1e-12);
+  expect_refused(quasi_static(kMohrCoulomb, "displacement_step_D = 0.0\n"), "displacement_step_D",
+                 "solver.displacement_step_D", "[0.0001, 1]");
+  expect_refused(kMohrCoulomb + std::string("[solver]\ndisplacement_step_D = 0.05\n"),
+                 "displacement_step_D", "solver.displacement_step_D", "quasi-static");
+}
+
+TEST(CentrifugeCaseModels, KeysOfTheExplicitAnalysisAreErrorsInAQuasiStaticCase) {
+  for (const char* line : {"mass_scaling = 10", "courant_number = 0.5", "flip_fraction = 0.9",
+                           "xpic_order = 2", "local_damping = 0.1"}) {
+    const std::string key = std::string(line).substr(0, std::string(line).find(' '));
+    expect_refused(quasi_static(kMohrCoulomb, std::string(line) + "\n"), key, "solver." + key,
+                   "applies to analysis = \"explicit\" only");
+    // The same keys are the explicit analysis's own.
+    EXPECT_NO_THROW(read_centrifuge_case_text(
+        kMohrCoulomb + std::string("[solver]\n") + line + "\n", "case.toml"));
+  }
+  expect_refused(quasi_static(kMohrCoulomb) + "[initial_stress]\nlocal_damping = 0.5\n",
+                 "local_damping", "initial_stress.local_damping", "explicit");
+  expect_refused(quasi_static(kMohrCoulomb) + "[relaxation]\nforce_averaging_s = 0.001\n",
+                 "force_averaging_s", "relaxation.force_averaging_s", "explicit");
+  // What both analyses read stays allowed (B-bar in the quasi-static one).
+  EXPECT_NO_THROW(read_centrifuge_case_text(
+      quasi_static(kMohrCoulomb, "threads = 1\nvolumetric_smoothing = false\n"), "case.toml"));
+}
+
+TEST(CentrifugeCaseModels, QuasiStaticCaseWrittenAsMpmCaseReadsBackAsTheSameCase) {
+  const CentrifugeScenario s = read_centrifuge_case_text(
+      quasi_static(kElastic, "displacement_step_D = 0.05\n"), "case.toml");
+  const MpmCase typed = centrifuge_case(s, "mpm_case.toml");
+  const std::string text = centrifuge_mpm_case_text(typed);
+  const MpmCase read = read_mpm_case_text(text, "mpm_case.toml");
+  // Written again from what was read: the same text, so every key written reads back to itself.
+  EXPECT_EQ(centrifuge_mpm_case_text(read), text);
+  EXPECT_EQ(read.analysis, MpmAnalysis::quasi_static);
+  EXPECT_EQ(read.displacement_step, typed.displacement_step);
+  EXPECT_NEAR(read.displacement_step, 0.05 * 0.0113, 1e-12);
+  // The explicit analysis's settings are not written; both cases keep the library's defaults.
+  for (const char* key : {"courant_number", "mass_scaling", "flip_fraction", "local_damping",
+                          "stop_force_averaging_s"})
+    EXPECT_EQ(text.find(key), std::string::npos) << key;
+  const mpm::SolverSettings defaults{};
+  for (const MpmCase* c : {&typed, &read}) {
+    EXPECT_EQ(c->solver.courant_number, defaults.courant_number);
+    EXPECT_EQ(c->solver.mass_scaling, defaults.mass_scaling);
+    EXPECT_EQ(c->solver.local_damping, defaults.local_damping);
+  }
+  // What the text does not hold: the phases' damping and force averaging, the same defaults.
+  ASSERT_EQ(read.phases.size(), typed.phases.size());
+  for (std::size_t k = 0; k < typed.phases.size(); ++k) {
+    SCOPED_TRACE(typed.phases[k].name);
+    EXPECT_EQ(typed.phases[k].local_damping, read.phases[k].local_damping);
+    // Relaxation ends by bisecting its load step, not on a moving average.
+    EXPECT_EQ(typed.phases[k].stop_force_averaging, 0.0);
+    EXPECT_EQ(read.phases[k].stop_force_averaging, 0.0);
+  }
+  // The K0 phase is one load step (recorded at its end).
+  EXPECT_EQ(typed.phases.front().energy_interval, typed.phases.front().duration);
+  ASSERT_EQ(read.regions.size(), typed.regions.size());
+  for (std::size_t k = 0; k < typed.regions.size(); ++k) {
+    EXPECT_EQ(read.regions[k].K0, typed.regions[k].K0);
+    EXPECT_EQ(read.regions[k].e0, typed.regions[k].e0);
+    EXPECT_EQ(read.regions[k].material.model, "linear-elastic");
+  }
+}
+
+}  // namespace
+}  // namespace pilempm
