@@ -39,8 +39,11 @@ TEST(BodyOutline, APileIsCutAtTheTopAndFollowsItsDisplacement) {
   const std::vector<Vec2> full = mpm_body_outline(pile, top);
   // The tip and both shoulders where the body is now; the shaft cut at the top.
   ASSERT_EQ(full.size(), 5u);
-  for (const Vec2& v : pile.vertices())
-    if (v.y() <= top) EXPECT_TRUE(holds(full, v)) << v.transpose();
+  for (const Vec2& v : pile.vertices()) {
+    if (v.y() <= top) {
+      EXPECT_TRUE(holds(full, v)) << v.transpose();
+    }
+  }
   EXPECT_TRUE(holds(full, Vec2(0.0, tip - 0.05)));
   EXPECT_TRUE(holds(full, Vec2(R, top)));
   EXPECT_TRUE(holds(full, Vec2(-R, top)));

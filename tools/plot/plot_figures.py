@@ -139,8 +139,11 @@ def draw_field(fig, axes, tables, series):
     else:
         drawn = axes.scatter(x, y, c=c, s=size, cmap=cmap, norm=norm, linewidths=0,
                              rasterized=True)
-    fig.colorbar(drawn, ax=axes, label=spec.get("label", ""))
     axes.set_aspect("equal", adjustable="box")
+    # A colour bar as tall as the panel.
+    from mpl_toolkits.axes_grid1 import make_axes_locatable
+    bar = make_axes_locatable(axes).append_axes("right", size="6%", pad=0.08)
+    fig.colorbar(drawn, cax=bar, label=spec.get("label", ""))
 
 
 def draw_polygon(axes, tables, series):
