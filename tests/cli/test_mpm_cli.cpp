@@ -67,6 +67,32 @@ std::vector<double> data_array(const std::string& vtu, const std::string& name) 
   return values;
 }
 
+// The DataSet entries of a .pvd, in order: timestep, part and file attributes as written.
+struct PvdEntry {
+  std::string time, part, file;
+};
+std::vector<PvdEntry> pvd_entries(const std::string& pvd) {
+  auto attribute = [](const std::string& line, const std::string& name) {
+    const auto at = line.find(name + "=\"");
+    if (at == std::string::npos) return std::string();
+    const auto start = at + name.size() + 2;
+    return line.substr(start, line.find('"', start) - start);
+  };
+  std::vector<PvdEntry> entries;
+  std::istringstream in(pvd);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find("<DataSet") != std::string::npos)
+      entries.push_back(
+          {attribute(line, "timestep"), attribute(line, "part"), attribute(line, "file")});
+  return entries;
+}
+
+std::string fmt_index(const std::string& stem, std::size_t index) {
+  std::string digits = std::to_string(index);
+  return stem + std::string(5 - std::min<std::size_t>(5, digits.size()), '0') + digits + ".vtu";
+}
+
 TEST(MpmCli, ColumnExampleWritesSnapshotsEnergiesAndTheWeightOfTheColumn) {
   const fs::path out = pilempm::test_support::fresh_temp_path("mpm-cli");
   const std::string example =
@@ -242,6 +268,49 @@ TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
   EXPECT_GT(lift_displacement, -0.01);         // it went back up
   EXPECT_GT(max_force, 1000.0);
 
+  // The plate for ParaView: a bodies_NNNNN.vtu beside each particles_NNNNN.vtu, listed in
+  // particles.pvd as part 1 at the same time; the last one holds the plate's polygon moved by
+  // its last displacement in bodies.csv.
+  const std::vector<PvdEntry> series = pvd_entries(read_text(dir / "out" / "particles.pvd"));
+  ASSERT_GE(series.size(), 4u);
+  ASSERT_EQ(series.size() % 2, 0u);
+  for (std::size_t k = 0; k < series.size(); k += 2) {
+    EXPECT_EQ(series[k].part, "0");
+    EXPECT_EQ(series[k + 1].part, "1");
+    EXPECT_EQ(series[k].time, series[k + 1].time);
+    EXPECT_EQ(series[k].file, fmt_index("particles_", k / 2));
+    EXPECT_EQ(series[k + 1].file, fmt_index("bodies_", k / 2));
+  }
+  const std::string bodies_vtu = read_text(dir / "out" / series.back().file);
+  EXPECT_NE(bodies_vtu.find("NumberOfPoints=\"4\" NumberOfCells=\"1\""), std::string::npos);
+  EXPECT_NE(bodies_vtu.find("Name=\"body\""), std::string::npos);
+  const std::vector<double> points = data_array(bodies_vtu, "Points");
+  ASSERT_EQ(points.size(), 12u);
+  EXPECT_NEAR(std::stod(series.back().time), std::stod(rows.back()[0]), 1e-9);
+  const double dx = std::stod(rows.back()[4]), dy = std::stod(rows.back()[5]);
+  EXPECT_GT(std::abs(dy), 1e-4);  // it moved
+  const double plate[4][2] = {{0.3, 0.5}, {0.7, 0.5}, {0.7, 0.6}, {0.3, 0.6}};
+  for (const auto& v : plate) {
+    bool found = false;
+    for (std::size_t p = 0; p < 4; ++p)
+      found =
+          found || (std::abs(points[3 * p] - (v[0] + dx)) < 1e-9 &&
+                    std::abs(points[3 * p + 1] - (v[1] + dy)) < 1e-9 && points[3 * p + 2] == 0.0);
+    EXPECT_TRUE(found) << v[0] << ", " << v[1];
+  }
+  // At the end of the push the plate's underside is 1 cm lower.
+  bool push_end_drawn = false;
+  for (const PvdEntry& e : series)
+    if (e.part == "1" && std::abs(std::stod(e.time) - push_end) < 1e-9) {
+      const std::vector<double> at_end = data_array(read_text(dir / "out" / e.file), "Points");
+      ASSERT_EQ(at_end.size(), 12u);
+      double lowest = 1.0;
+      for (std::size_t p = 0; p < 4; ++p) lowest = std::min(lowest, at_end[3 * p + 1]);
+      EXPECT_NEAR(lowest, 0.49, 1e-5);
+      push_end_drawn = true;
+    }
+  EXPECT_TRUE(push_end_drawn);
+
   // A checkpoint at each phase end; a restart from the first one ends with the same files.
   EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_01_push.h5"));
   EXPECT_TRUE(fs::exists(dir / "out" / "checkpoint_02_lift.h5"));
@@ -253,6 +322,10 @@ TEST(MpmCli, PlatePushedToADisplacementThenLiftedToAForceWritesBodiesCsv) {
   EXPECT_EQ(restarted.output.find("phase push: ended"), std::string::npos) << restarted.output;
   EXPECT_NE(restarted.output.find("phase lift: ended"), std::string::npos) << restarted.output;
   EXPECT_EQ(read_text(dir / "restarted" / "bodies.csv"), read_text(dir / "out" / "bodies.csv"));
+  // The restarted series lists the first run's bodies too, as part 1.
+  const std::vector<PvdEntry> resumed = pvd_entries(read_text(dir / "restarted" / "particles.pvd"));
+  ASSERT_EQ(resumed.size(), series.size());
+  for (std::size_t k = 0; k < resumed.size(); ++k) EXPECT_EQ(resumed[k].part, series[k].part);
   EXPECT_EQ(read_text(dir / "restarted" / "energies.csv"), read_text(dir / "out" / "energies.csv"));
   const Result missing =
       run_pilempm("mpm run '" + (dir / "plate.toml").string() + "' --out '" +

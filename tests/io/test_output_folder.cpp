@@ -102,18 +102,19 @@ TEST_F(OutputFolder, ForeignFilesAloneAreNotAnotherRun) {
 
 TEST_F(OutputFolder, ARunOfAnOlderPilempmIsRecognisedByTheNamesOnlyPilempmWrites) {
   for (const char* name :
-       {"particles.pvd", "particles_00003.vtu", "checkpoint_02_installation.h5", "pile.csv",
-        "fields_installation.vtu", "summary.json", "mpm/energies.csv"})
+       {"particles.pvd", "particles_00003.vtu", "bodies_00003.vtu", "checkpoint_02_installation.h5",
+        "pile.csv", "fields_installation.vtu", "summary.json", "mpm/energies.csv"})
     touch(dir_ / name);
-  for (const char* name : {"particles_final.vtu", "checkpoint.h5", "my.vtu", "notes.txt"})
+  for (const char* name :
+       {"particles_final.vtu", "bodies_final.vtu", "checkpoint.h5", "my.vtu", "notes.txt"})
     touch(dir_ / name);  // not names pilempm writes
-  EXPECT_EQ(earlier_run_files(dir_).size(), 7u);
+  EXPECT_EQ(earlier_run_files(dir_).size(), 8u);
   EXPECT_THROW(claim_output_folder(dir_), Error);
   OutputFolderOptions overwrite;
   overwrite.overwrite = true;
-  EXPECT_EQ(claim_output_folder(dir_, overwrite).removed_files.size(), 7u);
-  EXPECT_EQ(names(), (std::vector<std::string>{"checkpoint.h5", "my.vtu", "notes.txt",
-                                               "particles_final.vtu"}));
+  EXPECT_EQ(claim_output_folder(dir_, overwrite).removed_files.size(), 8u);
+  EXPECT_EQ(names(), (std::vector<std::string>{"bodies_final.vtu", "checkpoint.h5", "my.vtu",
+                                               "notes.txt", "particles_final.vtu"}));
 }
 
 TEST_F(OutputFolder, ARunContinuingItsOwnFolderKeepsItAndItsList) {

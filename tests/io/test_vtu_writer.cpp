@@ -98,6 +98,48 @@ TEST(VtuWriter, FieldOfWrongSizeIsAnError) {
   EXPECT_THROW(vtu_text(cloud), Error);
 }
 
+TEST(VtuWriter, PolygonsAreVtkPolygonCellsWithCellFields) {
+  PolygonMesh mesh;
+  mesh.coordinates = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 2, 0, 0};
+  mesh.connectivity = {0, 1, 2, 3, 1, 4, 2};
+  mesh.offsets = {4, 7};
+  mesh.cell_fields.push_back({"body", 1, {0.0, 1.0}});
+  const std::string vtu = vtu_text(mesh);
+  EXPECT_NE(vtu.find("NumberOfPoints=\"5\" NumberOfCells=\"2\""), std::string::npos) << vtu;
+  EXPECT_NE(vtu.find("<CellData>"), std::string::npos);
+  EXPECT_EQ(array_values(vtu, "body"), (std::vector<double>{0.0, 1.0}));
+  EXPECT_EQ(array_values(vtu, "Points"), mesh.coordinates);
+  // types: UInt8 7 (VTK_POLYGON) twice, after the UInt64 byte count 2.
+  const std::size_t at = vtu.find("Name=\"types\"");
+  ASSERT_NE(at, std::string::npos);
+  const std::size_t start = vtu.find_first_not_of(" \t\r\n", vtu.find('>', at) + 1);
+  const std::vector<unsigned char> types = decode(vtu.substr(start, vtu.find('<', start) - start));
+  EXPECT_EQ(types, (std::vector<unsigned char>{2, 0, 0, 0, 0, 0, 0, 0, 7, 7}));
+
+  PolygonMesh bad = mesh;
+  bad.offsets = {2, 7};  // a polygon of two points
+  EXPECT_THROW(vtu_text(bad), Error);
+  bad = mesh;
+  bad.connectivity[6] = 5;  // no point 5
+  EXPECT_THROW(vtu_text(bad), Error);
+  bad = mesh;
+  bad.offsets = {4};  // indices left over
+  EXPECT_THROW(vtu_text(bad), Error);
+  bad = mesh;
+  bad.cell_fields[0].values.pop_back();
+  EXPECT_THROW(vtu_text(bad), Error);
+}
+
+TEST(VtuWriter, PvdPartsNumberTheDataSetsOfOneTime) {
+  PvdSeries series("/tmp/run/particles.pvd");
+  series.add(0.5, "/tmp/run/particles_00001.vtu");
+  series.add(0.5, "/tmp/run/bodies_00001.vtu", 1);
+  const std::string text = series.text();
+  EXPECT_NE(text.find("timestep=\"0.5\" part=\"0\" file=\"particles_00001.vtu\""),
+            std::string::npos);
+  EXPECT_NE(text.find("timestep=\"0.5\" part=\"1\" file=\"bodies_00001.vtu\""), std::string::npos);
+}
+
 TEST(VtuWriter, PvdListsSnapshotsRelativeToItsFolder) {
   PvdSeries series("/tmp/run/fields.pvd");
   series.add(0.0, "/tmp/run/fields/step_0.vtu");

@@ -208,6 +208,25 @@ TEST_F(CentrifugeRunTest, WritesItsFiles) {
   const NumericTable summary = read_numeric_csv(*dir_ / "summary.csv");
   EXPECT_NEAR(summary.column("installation_head_force_N").front(),
               summary_->installation_head_force, 1e-6 * summary_->installation_head_force);
+
+  // The pile drawn in the field figures: its half-section at the end of installation, from the
+  // axis to R = 5.65 mm, its tip at the tip depth of pile.csv.
+  const NumericTable outline = read_numeric_csv(*dir_ / "fields_installation_pile.csv");
+  const std::vector<double>& r = outline.column("r_mm");
+  const std::vector<double>& depth = outline.column("depth_mm");
+  ASSERT_EQ(r.size(), 4u);  // tip, shoulder, shaft top, axis top
+  EXPECT_EQ(*std::min_element(r.begin(), r.end()), 0.0);
+  EXPECT_NEAR(*std::max_element(r.begin(), r.end()), 5.65, 1e-6);
+  EXPECT_NEAR(*std::max_element(depth.begin(), depth.end()),
+              summary_->installation_tip_depth_D * 11.3, 1e-5);
+  // Each particle's domain for the filled fields: positive half-lengths, far below a pile
+  // diameter (a quarter of a D/2 cell at the start, stretched or squeezed since).
+  const NumericTable fields = read_numeric_csv(*dir_ / "fields_installation.csv");
+  for (const char* column : {"half_r_mm", "half_depth_mm"})
+    for (double h : fields.column(column)) {
+      EXPECT_GT(h, 0.0) << column;
+      EXPECT_LT(h, 11.3) << column;
+    }
 }
 
 // The head force at the end of installation of the tiny model with a time step of 0.5 and 0.25

@@ -27,10 +27,16 @@ figures.json (paths relative to its folder):
                        "style": {"color": "C0", "linestyle": "-", "marker": "",
                                  "linewidth": 1.6, "markersize": 5},
                        "color_by": {"column": "void_ratio", "label": "void ratio [-]",
-                                    "cmap": "viridis", "limits": [lo, hi], "log": false}}]}]}]}
+                                    "cmap": "viridis", "limits": [lo, hi], "log": false,
+                                    "half_x": "half_r_mm", "half_y": "half_depth_mm"},
+                       "fill": "0.6"}]}]}]}
 
-A series with "color_by" is a field: its points are drawn as dots coloured by that column, with
-a colour bar beside the panel ("style" gives only the dot size, "markersize").
+A series with "color_by" is a field coloured by that column, with a colour bar beside the panel:
+with "half_x" and "half_y" (the columns of the half-lengths of each point's domain) each point is
+drawn as its filled rectangle, else as a dot ("style" gives only the dot size, "markersize").
+Fields with the same "limits" share their colour scale, so that panels compare.
+A series with "fill" is a filled polygon of that colour through its (x, y) points, outlined with
+its "style" (e.g. a pile drawn over the fields).
 
 CSV files have one header line (comment lines starting with '#' are skipped); an empty cell or
 "nan" is a gap in the curve. "where" keeps the rows whose columns equal the given texts.
@@ -105,21 +111,47 @@ def series_data(tables, series):
 
 
 def draw_field(fig, axes, tables, series):
-    """Dots at (x, y) coloured by a third column, with a colour bar."""
+    """Points at (x, y) coloured by a third column, each a dot or its filled domain rectangle,
+    with a colour bar."""
     spec = series["color_by"]
     x, y = series_data(tables, series)
     c, _ = series_data(tables, dict(series, x=spec["column"]))
     limits = spec.get("limits", [None, None])
     size = series.get("style", {}).get("markersize", 2.0)
-    scale = {"vmin": limits[0], "vmax": limits[1]}
+    from matplotlib.colors import LogNorm, Normalize
     if spec.get("log"):
-        from matplotlib.colors import LogNorm
-        scale = {"norm": LogNorm(vmin=limits[0], vmax=limits[1])}
+        norm = LogNorm(vmin=limits[0], vmax=limits[1])
         c = [v if v > 0 else math.nan for v in c]
-    points = axes.scatter(x, y, c=c, s=size, cmap=spec.get("cmap", "viridis"), linewidths=0,
-                          rasterized=True, **scale)
-    fig.colorbar(points, ax=axes, label=spec.get("label", ""))
+    else:
+        norm = Normalize(vmin=limits[0], vmax=limits[1])
+    cmap = spec.get("cmap", "viridis")
+    if spec.get("half_x") and spec.get("half_y"):
+        from matplotlib.collections import PolyCollection
+        hx, _ = series_data(tables, dict(series, x=spec["half_x"]))
+        hy, _ = series_data(tables, dict(series, x=spec["half_y"]))
+        cells = [[(px - a, py - b), (px + a, py - b), (px + a, py + b), (px - a, py + b)]
+                 for px, py, a, b in zip(x, y, hx, hy)]
+        drawn = PolyCollection(cells, array=c, cmap=cmap, norm=norm, edgecolors="face",
+                               linewidths=0.0, rasterized=True)
+        axes.add_collection(drawn)
+        axes.update_datalim([(min(x), min(y)), (max(x), max(y))])
+        axes.autoscale_view()
+    else:
+        drawn = axes.scatter(x, y, c=c, s=size, cmap=cmap, norm=norm, linewidths=0,
+                             rasterized=True)
     axes.set_aspect("equal", adjustable="box")
+    # A colour bar as tall as the panel.
+    from mpl_toolkits.axes_grid1 import make_axes_locatable
+    bar = make_axes_locatable(axes).append_axes("right", size="6%", pad=0.08)
+    fig.colorbar(drawn, cax=bar, label=spec.get("label", ""))
+
+
+def draw_polygon(axes, tables, series):
+    """A filled polygon through the series' (x, y) points, over the fields."""
+    x, y = series_data(tables, series)
+    style = series.get("style", {})
+    axes.fill(x, y, facecolor=series["fill"], edgecolor=style.get("color", "black"),
+              linewidth=style.get("linewidth", 0.8), zorder=3)
 
 
 def set_axis(axes, which, spec):
@@ -152,6 +184,9 @@ def draw_figure(pyplot, tables, folder, figure):
             label = series.get("label") or "_nolegend_"
             if "color_by" in series:
                 draw_field(fig, axes, tables, series)
+                continue
+            if "fill" in series:
+                draw_polygon(axes, tables, series)
                 continue
             x, y = series_data(tables, series)
             (line,) = axes.plot(x, y, label=label, **series.get("style", {}))

@@ -60,10 +60,11 @@ def read_vtu(path):
 
 
 def read_pvd(folder):
-    """[(time, vtu path)] of a run, in time order."""
+    """[(time, vtu path)] of a run's particles (part 0; part 1 holds the rigid bodies), in time
+    order."""
     root = ET.parse(os.path.join(folder, "particles.pvd")).getroot()
     series = [(float(d.get("timestep")), os.path.join(folder, d.get("file")))
-              for d in root.iter("DataSet")]
+              for d in root.iter("DataSet") if d.get("part", "0") == "0"]
     return sorted(series)
 
 

@@ -31,7 +31,47 @@ namespace {
 
 constexpr double kKPa = 1.0e3;
 
+// The part of a polygon where n . x <= limit (Sutherland and Hodgman's clipping against one
+// half-plane; a convex polygon stays convex and keeps its orientation).
+std::vector<mpm::Vec2> clipped(const std::vector<mpm::Vec2>& polygon, const mpm::Vec2& normal,
+                               double limit) {
+  std::vector<mpm::Vec2> out;
+  for (std::size_t k = 0; k < polygon.size(); ++k) {
+    const mpm::Vec2& a = polygon[k];
+    const mpm::Vec2& b = polygon[(k + 1) % polygon.size()];
+    const double da = normal.dot(a) - limit, db = normal.dot(b) - limit;
+    if (da <= 0.0) out.push_back(a);
+    if ((da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0))
+      out.push_back(a + (da / (da - db)) * (b - a));
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<mpm::Vec2> mpm_body_outline(const mpm::RigidBody& body, double top, bool half_section) {
+  std::vector<mpm::Vec2> outline = clipped(body.vertices(), mpm::Vec2(0.0, 1.0), top);
+  if (half_section) outline = clipped(outline, mpm::Vec2(-1.0, 0.0), 0.0);
+  return outline.size() >= 3 ? outline : std::vector<mpm::Vec2>{};
+}
+
+PolygonMesh mpm_body_mesh(const mpm::MpmState& solver) {
+  PolygonMesh mesh;
+  PointField body_index{"body", 1, {}};
+  const double top = solver.grid().y_axis().end();
+  for (int b = 0; b < solver.rigid_body_count(); ++b) {
+    const std::vector<mpm::Vec2> outline = mpm_body_outline(solver.rigid_body(b), top);
+    if (outline.empty()) continue;  // wholly above the grid
+    for (const mpm::Vec2& v : outline) {
+      mesh.connectivity.push_back(static_cast<std::int64_t>(mesh.coordinates.size() / 3));
+      mesh.coordinates.insert(mesh.coordinates.end(), {v.x(), v.y(), 0.0});
+    }
+    mesh.offsets.push_back(static_cast<std::int64_t>(mesh.connectivity.size()));
+    body_index.values.push_back(b);
+  }
+  mesh.cell_fields.push_back(std::move(body_index));
+  return mesh;
+}
 
 std::vector<double> mpm_igs_sizes(const mpm::MpmState& solver) {
   std::vector<double> sizes;
@@ -225,7 +265,8 @@ namespace {
 // The records of a checkpoint: the output text so far and the snapshot series.
 constexpr const char* kEnergiesRecord = "energies.csv";
 constexpr const char* kBodiesRecord = "bodies.csv";
-constexpr const char* kSeriesRecord = "particles.pvd";  // "time<TAB>file relative to the folder"
+// "time<TAB>file relative to the folder[<TAB>part]" (no part: 0, the particles; 1: the bodies)
+constexpr const char* kSeriesRecord = "particles.pvd";
 
 // The files of a run, written as the loop reaches their times: the VTU snapshots and their
 // series, energies.csv and bodies.csv (rewritten at every snapshot and at the end), checkpoints.
@@ -271,11 +312,16 @@ class MpmOutputWriter final : public RunObserver {
       const auto tab = line.find('\t');
       if (tab == std::string::npos) continue;
       const double time = std::stod(line.substr(0, tab));
-      const std::filesystem::path file = (from / line.substr(tab + 1)).lexically_normal();
-      series_.add(time, file);
-      series_entries_.emplace_back(time, file);
+      const auto part_tab = line.find('\t', tab + 1);
+      const int part = part_tab == std::string::npos ? 0 : std::stoi(line.substr(part_tab + 1));
+      const std::filesystem::path file =
+          (from / line.substr(tab + 1, part_tab == std::string::npos ? std::string::npos
+                                                                     : part_tab - tab - 1))
+              .lexically_normal();
+      series_.add(time, file, part);
+      series_entries_.push_back({time, file, part});
+      if (part == 0) ++vtu_count_;
     }
-    vtu_count_ = series_entries_.size();
   }
 
   void run_start(const Scheme& /*scheme*/, std::size_t first_phase) override {
@@ -304,7 +350,14 @@ class MpmOutputWriter final : public RunObserver {
     const std::filesystem::path file = out_dir_ / name;
     write_vtu(file, mpm_particle_cloud(solver, initial_position_, material_index_));
     series_.add(solver.time(), absolute_out_ / name);
-    series_entries_.emplace_back(solver.time(), absolute_out_ / name);
+    series_entries_.push_back({solver.time(), absolute_out_ / name, 0});
+    if (with_bodies_) {
+      // The bodies beside the particles: part 1 of the series' multiblock data set.
+      const std::string bodies = fmt::format("bodies_{:05d}.vtu", vtu_count_ - 1);
+      write_vtu(out_dir_ / bodies, mpm_body_mesh(solver));
+      series_.add(solver.time(), absolute_out_ / bodies, 1);
+      series_entries_.push_back({solver.time(), absolute_out_ / bodies, 1});
+    }
     series_.write();
     write_records();
     summary_.vtu_files.push_back(file);
@@ -340,10 +393,10 @@ class MpmOutputWriter final : public RunObserver {
     info.records[kEnergiesRecord] = energies_;
     if (with_bodies_) info.records[kBodiesRecord] = bodies_;
     std::string entries;
-    for (const auto& [time, file] : series_entries_) {
-      entries += fmt::format("{:.17g}\t", time);
-      entries += file.lexically_relative(absolute_out_).generic_string();
-      entries += '\n';
+    for (const SeriesEntry& e : series_entries_) {
+      entries += fmt::format("{:.17g}\t", e.time);
+      entries += e.file.lexically_relative(absolute_out_).generic_string();
+      entries += e.part == 0 ? std::string("\n") : fmt::format("\t{}\n", e.part);
     }
     info.records[kSeriesRecord] = entries;
     const std::filesystem::path file =
@@ -362,7 +415,12 @@ class MpmOutputWriter final : public RunObserver {
   std::filesystem::path out_dir_, absolute_out_;
   MpmRunSummary& summary_;
   PvdSeries series_;
-  std::vector<std::pair<double, std::filesystem::path>> series_entries_;  // for checkpoints
+  struct SeriesEntry {
+    double time;
+    std::filesystem::path file;
+    int part;
+  };
+  std::vector<SeriesEntry> series_entries_;  // for checkpoints
   std::vector<mpm::Vec2> initial_position_;
   std::vector<int> material_index_;
   std::vector<std::string> body_names_;

@@ -1,9 +1,9 @@
 #pragma once
-// Output of MPM runs (docs/mpm-case-files.md, "Output"): a VTU snapshot of the particles per
-// output time with a ParaView series (particles.pvd), the energy account as CSV
-// (energies.csv), the rigid bodies' motion and forces as CSV (bodies.csv) and checkpoints, as
-// an observer of the run loop (simulation/run_loop.hpp, which decides when). Files are written
-// atomically.
+// Output of MPM runs (docs/mpm-case-files.md, "Output"): a VTU snapshot of the particles (and
+// one of the rigid bodies' polygons) per output time with a ParaView series (particles.pvd), the
+// energy account as CSV (energies.csv), the rigid bodies' motion and forces as CSV (bodies.csv) and
+// checkpoints, as an observer of the run loop (simulation/run_loop.hpp, which decides when). Files
+// are written atomically.
 #include <filesystem>
 #include <functional>
 #include <ostream>
@@ -27,6 +27,18 @@ std::vector<double> mpm_igs_sizes(const mpm::MpmState& solver);
 PointCloud mpm_particle_cloud(const mpm::MpmState& solver,
                               const std::vector<mpm::Vec2>& initial_position,
                               const std::vector<int>& material_index);
+
+/// The outline of a rigid body as drawn, counter-clockwise: its polygon (for a pile the section
+/// mirrored about the axis) cut off above the height `top` [m] (a pile's head lies far above the
+/// grid); with `half_section` also cut at x = 0, keeping x >= 0 (a pile's half-section, for
+/// figures in r and depth). Empty when nothing of it is left.
+std::vector<mpm::Vec2> mpm_body_outline(const mpm::RigidBody& body, double top,
+                                        bool half_section = false);
+
+/// The solver's rigid bodies for ParaView (bodies_NNNNN.vtu): one polygon per body at its
+/// current position (mpm_body_outline cut at the grid's top), z = 0, with the cell field "body"
+/// (the body's index).
+PolygonMesh mpm_body_mesh(const mpm::MpmState& solver);
 
 /// The header of energies.csv (a comment line with the units, then the column names).
 std::string mpm_energies_header(mpm::Geometry geometry);
@@ -75,7 +87,8 @@ struct MpmRunHooks {
 /// Runs the phases of a case with the case's analysis (explicit or quasi-static,
 /// simulation::run_phases), writing into
 /// `out_dir` (created if needed): particles_NNNNN.vtu,
-/// particles.pvd, energies.csv, with rigid bodies bodies.csv, and at the end of each phase that
+/// particles.pvd, energies.csv, with rigid bodies bodies.csv and bodies_NNNNN.vtu (listed in
+/// particles.pvd as part 1 at the particles' times), and at the end of each phase that
 /// asks for it checkpoint_NN_<phase>.h5 (NN: the number of phases done). Progress lines and the
 /// end of each phase go to `progress` (nullptr: none). With `restart` (a checkpoint file), the
 /// run continues from it with the case's phases from the checkpoint's next phase on and the

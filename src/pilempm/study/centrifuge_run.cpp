@@ -76,7 +76,9 @@ std::string fields_csv(const mpm::MpmState& solver, double surface) {
   std::string text =
       "# the sand's particles: r_mm from the axis, depth_mm below the initial sand surface, "
       "p and q in kPa (compression positive), igs_rho = ||delta|| / R of the intergranular "
-      "strain (0 for sand without one)\nr_mm,depth_mm,void_ratio,p_kPa,q_kPa,igs_rho\n";
+      "strain (0 for sand without one), half_r_mm and half_depth_mm the half-lengths of the "
+      "particle's domain\n"
+      "r_mm,depth_mm,void_ratio,p_kPa,q_kPa,igs_rho,half_r_mm,half_depth_mm\n";
   for (std::size_t p = 0; p < particles.size(); ++p) {
     const MaterialState& state = particles.state[p];
     const double R = igs_size[static_cast<std::size_t>(particles.material[p])];
@@ -86,8 +88,22 @@ std::string fields_csv(const mpm::MpmState& solver, double surface) {
         csv_row({csv_number(1e3 * particles.position[p].x(), 6),
                  csv_number(1e3 * (surface - particles.position[p].y()), 6),
                  csv_number(state.void_ratio, 6), csv_number(mean_stress(state.stress) / 1e3, 6),
-                 csv_number(deviator_stress(state.stress) / 1e3, 6), csv_number(rho, 4)});
+                 csv_number(deviator_stress(state.stress) / 1e3, 6), csv_number(rho, 4),
+                 csv_number(1e3 * particles.half_size[p].x(), 6),
+                 csv_number(1e3 * particles.half_size[p].y(), 6)});
   }
+  return text;
+}
+
+// The pile's half-section (r >= 0) at the solver's time, cut at the grid's top, as CSV in the
+// coordinates of fields_csv.
+std::string pile_outline_csv(const mpm::MpmState& solver, double surface) {
+  std::string text =
+      "# the pile's half-section: its outline's corners, r_mm from the axis, depth_mm below the "
+      "initial sand surface (cut at the top of the grid)\nr_mm,depth_mm\n";
+  for (const mpm::Vec2& v :
+       mpm_body_outline(solver.rigid_body(0), solver.grid().y_axis().end(), true))
+    text += csv_row({csv_number(1e3 * v.x(), 6), csv_number(1e3 * (surface - v.y()), 6)});
   return text;
 }
 
@@ -112,6 +128,8 @@ class FieldWriter final : public RunObserver {
     if (phase.role != MpmPhaseRole::installation && phase.role != MpmPhaseRole::load_test) return;
     const std::string stem = "fields_" + phase.name;
     write_file_atomically(out_dir_ / (stem + ".csv"), fields_csv(solver, s_.sand_height()));
+    write_file_atomically(out_dir_ / (stem + "_pile.csv"),
+                          pile_outline_csv(solver, s_.sand_height()));
     std::vector<int> material_index(solver.materials().size());
     for (std::size_t k = 0; k < material_index.size(); ++k) material_index[k] = static_cast<int>(k);
     write_vtu(out_dir_ / (stem + ".vtu"),
@@ -287,8 +305,12 @@ FigureSpec centrifuge_field_figure(const CentrifugeScenario& s, const std::strin
   f.height_in = 6.0;
   const double mm = 1e3 * s.pile_diameter;
   const double deepest = s.wished_in_place_D + s.installation_D;
+  const std::string pile_csv =
+      (csv.ends_with(".csv") ? csv.substr(0, csv.size() - 4) : csv) + "_pile.csv";
   // Fixed scales, so that runs can be compared: e from dense to loose, stresses logarithmic
-  // from the overburden near the surface to the tip's MPa. The IGS panel for hypoplastic sand.
+  // from the overburden near the surface to the tip's MPa. The zone around the pile: 5 D
+  // around the axis, from 3 D above the tip (at most half a D above the sand) to 5 D below.
+  // The IGS panel for hypoplastic sand only.
   const bool hypoplastic = scenario_sand_is_hypoplastic(s);
   if (!hypoplastic) f.cols = 3;
   for (auto [column, label, map, low, high, log] :
@@ -300,8 +322,8 @@ FigureSpec centrifuge_field_figure(const CentrifugeScenario& s, const std::strin
     PanelSpec panel;
     panel.x.label = "r [mm]";
     panel.y.label = "depth [mm]";
-    panel.x.limits = std::pair{0.0, std::min(3.0, s.container_radius_D) * mm};
-    panel.y.limits = std::pair{std::max(0.0, deepest - 6.0) * mm, (deepest + 3.0) * mm};
+    panel.x.limits = std::pair{0.0, std::min(5.0, s.container_radius_D) * mm};
+    panel.y.limits = std::pair{std::max(-0.5, deepest - 3.0) * mm, (deepest + 5.0) * mm};
     panel.y.invert = true;
     panel.legend = "none";
     SeriesSpec series = curve(csv, {}, "r_mm", "depth_mm", "", SeriesStyle{"", "", "", 0.0, 3.0});
@@ -310,7 +332,13 @@ FigureSpec centrifuge_field_figure(const CentrifugeScenario& s, const std::strin
     series.colormap = map;
     series.color_limits = std::pair{low, high};
     series.color_log = log;
+    series.half_x = "half_r_mm";
+    series.half_y = "half_depth_mm";
     panel.series.push_back(series);
+    SeriesSpec pile =
+        curve(pile_csv, {}, "r_mm", "depth_mm", "", SeriesStyle{"black", "-", "", 0.8, 0.0});
+    pile.fill = "0.6";
+    panel.series.push_back(pile);
     f.panels.push_back(panel);
   }
   return f;

@@ -3,7 +3,8 @@
 // DIR/mpm/ (particle snapshots, energies, bodies, a checkpoint per phase), and DIR gets what an
 // engineer reads: pile.csv (head, tip and shaft force and the tip stress against pile
 // displacement and tip depth, with the equilibrium and energy checks), fields_<phase>.csv and
-// .vtu at the snapshot depths and phase ends (void ratio, p, q, IGS ρ), summary.json and
+// .vtu at the snapshot depths and phase ends (void ratio, p, q, IGS ρ; the pile's outline in
+// fields_<phase>_pile.csv), summary.json and
 // summary.md, and the head-force plots.
 #include <filesystem>
 #include <ostream>
@@ -35,7 +36,10 @@ scenario::CentrifugeSummary run_centrifuge(const scenario::CentrifugeScenario& s
 std::string_view quick_centrifuge_case_text();
 
 /// The figure of the fields (void ratio, p, q, IGS ρ) around the pile after `phase` of a run of
-/// `scenario`, from `csv` (a fields_<phase>.csv), drawn into `file`.
+/// `scenario`, from `csv` (a fields_<phase>.csv; the pile's outline from fields_<phase>_pile.csv
+/// beside it), drawn into `file`: each particle as its filled domain, in the zone r <= 5 D (or
+/// the container) and from 3 D above to 5 D below the planned tip depth, on fixed colour scales
+/// (the same in every run, so that runs compare), the pile drawn over them.
 FigureSpec centrifuge_field_figure(const scenario::CentrifugeScenario& scenario,
                                    const std::string& phase, const std::string& csv,
                                    const std::string& file);

@@ -53,8 +53,11 @@ std::string series_json(const SeriesSpec& s) {
       color += fmt::format(", \"limits\": [{}, {}]", figure_number(s.color_limits->first),
                            figure_number(s.color_limits->second));
     if (s.color_log) color += ", \"log\": true";
+    if (!s.half_x.empty() && !s.half_y.empty())
+      color += ", \"half_x\": " + json_quote(s.half_x) + ", \"half_y\": " + json_quote(s.half_y);
     color += "}";
   }
+  if (!s.fill.empty()) color += ", \"fill\": " + json_quote(s.fill);
   return fmt::format(
       "{{\"csv\": {}, \"where\": {}, \"x\": {}, \"y\": {}, \"label\": {}, \"style\": {}{}}}",
       json_quote(s.csv), where, json_quote(s.x), json_quote(s.y), json_quote(s.label),

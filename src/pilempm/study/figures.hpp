@@ -32,8 +32,14 @@ struct SeriesSpec {
   std::string x, y;                                        ///< column names
   std::string label;                                       ///< legend text ("" = none)
   SeriesStyle style;
-  /// A field: the points coloured by this column (a scatter with a colour bar), "" = a curve.
+  /// A field: the points coloured by this column (with a colour bar), "" = a curve.
   std::string color_by;
+  /// A field of particles: the columns of the half-lengths of each particle's domain along x
+  /// and y; each particle is drawn as its filled rectangle. "" = a dot per point.
+  std::string half_x, half_y;
+  /// A filled polygon: the rows' (x, y) points as one polygon of this matplotlib colour with a
+  /// black outline, drawn over the fields. "" = not a polygon.
+  std::string fill;
   std::string color_label;                                ///< of the colour bar, with the unit
   std::string colormap = "viridis";                       ///< a matplotlib colour map
   std::optional<std::pair<double, double>> color_limits;  ///< the values at its ends

@@ -45,6 +45,8 @@ bool pilempm_file_name(std::string_view name) {
   if (std::find(std::begin(kNames), std::end(kNames), name) != std::end(kNames)) return true;
   if (name.starts_with("particles_") && ends_with(name, ".vtu"))
     return all_digits(name.substr(10, name.size() - 14));
+  if (name.starts_with("bodies_") && ends_with(name, ".vtu"))
+    return all_digits(name.substr(7, name.size() - 11));
   if (name.starts_with("checkpoint_") && ends_with(name, ".h5")) {
     const std::string_view rest = name.substr(11);
     return all_digits(rest.substr(0, rest.find('_')));
