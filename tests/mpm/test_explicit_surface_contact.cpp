@@ -64,12 +64,18 @@ Vec2 mean_velocity(const Particles& p) {
   return momentum / total_mass(p);
 }
 
-// The deepest corner of the particles' domains below the floor [m] (0: none below).
-double penetration(const Particles& p) {
-  double deepest = 0.0;
-  for (std::size_t i = 0; i < p.size(); ++i)
-    deepest = std::max(deepest, kFloor - (p.position[i].y() - p.half_size[i].y()));
-  return deepest;
+// The mean and the largest depth of the particles' bottom corners below the floor [m].
+Vec2 penetration(const Particles& p) {
+  double sum = 0.0, deepest = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    const double depth = kFloor - (p.position[i].y() - p.half_size[i].y());
+    if (depth <= 0.0) continue;
+    sum += depth;
+    ++count;
+    deepest = std::max(deepest, depth);
+  }
+  return Vec2(count > 0 ? sum / count : 0.0, deepest);
 }
 
 // Time averages over [start, end] of the force of the soil on the body (total and per part).
@@ -93,22 +99,25 @@ TEST(ExplicitSurfaceContact, BlockRestingOnAFloorCarriesItsWeightWithThePredicte
   const double weight = total_mass(solver.particles()) * kG;
   const MeanForce mean = mean_force(solver, 0.25, 0.3);
   const RigidBodyForce& last = solver.rigid_body_force(0);
-  // At rest every bottom corner carries ρ g H l (l = 6.25 mm the half particle size) on a spring
-  // k_n = β M (square particles): the penetration ρ g H l / (β M), M the constrained modulus.
+  // At rest a bottom corner carries on average ρ g H l (l = 6.25 mm the half particle size) on a
+  // spring k_n = β M (square particles): the mean penetration ρ g H l / (β M), M the constrained
+  // modulus (the corners at the block's edges go deeper).
   const double modulus = kYoung * (1.0 - kPoisson) / ((1.0 + kPoisson) * (1.0 - 2.0 * kPoisson));
   const double expected = kDensity * kG * (kTop - kFloor) * 0.25 * kCell /
                           (SolverSettings{}.surface_contact.penalty_factor * modulus);
-  const double depth = penetration(solver.particles());
+  const Vec2 depths = penetration(solver.particles());
+  const double depth = depths.x();
   std::printf(
       "block on floor, surface contact: mean normal force / weight %.6f (last step %.6f), "
-      "tangential %.2e; penetration %.3e m (predicted %.3e m, %.2e cells), |v| %.2e m/s\n",
+      "tangential %.2e; mean penetration %.3e m (predicted %.3e m, %.2e cells), deepest %.3e m, "
+      "|v| %.2e m/s\n",
       -mean.total.y() / weight, -last.total.y() / weight, mean.total.x() / weight, depth, expected,
-      depth / kCell, mean_velocity(solver.particles()).norm());
+      depth / kCell, depths.y(), mean_velocity(solver.particles()).norm());
   EXPECT_NEAR(-mean.total.y() / weight, 1.0, 2e-3);
   EXPECT_NEAR(-last.total.y() / weight, 1.0, 5e-3);
   EXPECT_LT(std::abs(mean.total.x()) / weight, 1e-3);
-  EXPECT_NEAR(depth / expected, 1.0, 0.2);
-  EXPECT_LT(depth, 1e-3 * kCell);
+  EXPECT_NEAR(depth / expected, 1.0, 0.02);
+  EXPECT_LT(depths.y(), 1e-3 * kCell);
   // The floor's only part carries it all.
   ASSERT_EQ(last.parts.size(), 4u);
   Vec2 sum = Vec2::Zero();
@@ -176,12 +185,9 @@ void bounce(double penalty_factor) {
   const double cfl = solver.next_time_step();
   double smallest_step = cfl;
   bool touched = false;
-  while (solver.time() < 0.2) {
+  while (solver.time() < 0.1) {  // arrival at 0.05 s, contact for about 2 H / c = 3 ms
     smallest_step = std::min(smallest_step, solver.step());
     touched = touched || solver.rigid_body_force(0).total.norm() > 0.0;
-    if (touched && solver.rigid_body_force(0).total.norm() == 0.0 &&
-        mean_velocity(solver.particles()).y() > 0.0)
-      break;
   }
   const Energies& e = solver.energies();
   const double rebound = mean_velocity(solver.particles()).y();
@@ -191,7 +197,7 @@ void bounce(double penalty_factor) {
       penalty_factor, e.kinetic / before, (e.kinetic + e.internal) / before, rebound,
       smallest_step / cfl);
   ASSERT_TRUE(touched);
-  EXPECT_GT(rebound, 0.1);  // it bounced and left
+  EXPECT_GT(rebound, 0.3);  // it bounced and left
   EXPECT_EQ(solver.rigid_body_force(0).total.norm(), 0.0);
   EXPECT_LE(e.kinetic, before);
   EXPECT_LE(e.kinetic + e.internal, before * (1.0 + 1e-3));

@@ -279,17 +279,6 @@ void Solver::advance(double dt) {
       },
       [&](long n, int thread) { grid_update.node(n, grid_tallies[thread]); });
   add_grid_update_tallies();
-  if (surface) {
-    // The springs' frequency bound for the next step, on this step's nodal masses.
-    surface_frequency_squared_ = 0.0;
-    for (int n : surface_nodes_) {
-      const double mass = grid_.nodes().mass[n];
-      if (mass > 0.0)
-        surface_frequency_squared_ =
-            std::max(surface_frequency_squared_, surface_stiffness_[std::size_t(n)] / mass);
-    }
-  }
-
   // Contact: the rigid bodies correct v^L and Δv (Coulomb friction); the forces on the bodies.
   if (!surface) apply_contact(dt, ContactPass::after_grid_update);
   // XPIC(m > 1): the PIC share's target.

@@ -269,14 +269,13 @@ class Solver final : public MpmState {
 
   // contact = surface: per particle corner (4 per particle, order of quasi_static) its friction
   // history and its position relative to the body's box_min at the last step (for the slip);
-  // per node the contact force of the step and the nodes it touched; the largest K_i / m_i.
+  // per node the contact force of the step and the nodes it touched; the largest Σ k_q / (s m_p).
   struct CornerContact {
     ContactHistory history;
     Vec2 relative_position = Vec2::Zero();
   };
   std::vector<CornerContact> corner_contacts_;
   std::vector<Vec2> surface_force_;
-  std::vector<double> surface_stiffness_;
   std::vector<int> surface_nodes_;
   double surface_frequency_squared_ = 0.0;
 
