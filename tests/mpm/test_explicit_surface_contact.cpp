@@ -32,13 +32,7 @@ Solver block_on_plane(double angle, double friction, double damping) {
   RectangleFill fill = test_support::block_fill(0.1, 0.5, kFloor, kTop, kDensity);
   fill.initial_state.void_ratio = 0.7;
   Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
-  const double k0 = kPoisson / (1.0 - kPoisson);
-  for (std::size_t p = 0; p < particles.size(); ++p) {
-    const double vertical = -kDensity * kG * std::cos(angle) * (kTop - particles.position[p].y());
-    particles.state[p].stress[k22] = vertical;
-    particles.state[p].stress[k11] = particles.state[p].stress[k33] = k0 * vertical;
-    particles.external_force[p] = Vec2(particles.mass[p] * kG * std::sin(angle), 0.0);
-  }
+  test_support::set_geostatic_on_plane(particles, kDensity, kG, angle, kTop, kPoisson);
   SolverSettings settings;
   settings.gravity = kG * std::cos(angle);
   settings.local_damping = damping;
