@@ -144,6 +144,23 @@ TEST(MpmCase, BadValueNamesTheValueAndTheRange) {
   EXPECT_NE(std::string(axis.what()).find("axis"), std::string::npos) << axis.what();
 }
 
+// [solver] contact: "nodes" (the default) or "surface" (the corner penalty contact).
+TEST(MpmCase, ContactSchemeIsNodesOrSurfaceWithFileLineAndAllowedValues) {
+  EXPECT_EQ(read_mpm_case_text(kCase, "case.toml").solver.contact, mpm::ContactScheme::nodes);
+  const std::string surface =
+      with("local_damping = 0.2", "local_damping = 0.2\ncontact = \"surface\"");
+  EXPECT_EQ(read_mpm_case_text(surface, "case.toml").solver.contact, mpm::ContactScheme::surface);
+  const InputError e =
+      error_of(with("local_damping = 0.2", "local_damping = 0.2\ncontact = \"edges\""));
+  EXPECT_EQ(e.file(), "case.toml");
+  EXPECT_EQ(e.line(), 27);
+  const std::string message = e.what();
+  EXPECT_NE(message.find("contact"), std::string::npos) << message;
+  EXPECT_NE(message.find("edges"), std::string::npos) << message;
+  EXPECT_NE(message.find("nodes"), std::string::npos) << message;
+  EXPECT_NE(message.find("surface"), std::string::npos) << message;
+}
+
 TEST(MpmCase, MissingPhaseIsAnError) {
   std::string text = kCase;
   text = text.substr(0, text.find("[[phase]]"));

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "../support/input_texts.hpp"
 #include "../support/mpm_case_texts.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
@@ -137,6 +138,7 @@ void expect_same_case(const MpmCase& typed, const MpmCase& read) {
   EXPECT_EQ(s.fixed_time_step, t.fixed_time_step);
   EXPECT_EQ(s.threads, t.threads);
   EXPECT_EQ(s.volumetric_smoothing, t.volumetric_smoothing);
+  EXPECT_EQ(s.contact, t.contact);
   ASSERT_EQ(s.absorbing_boundaries.size(), t.absorbing_boundaries.size());
   for (std::size_t k = 0; k < s.absorbing_boundaries.size(); ++k) {
     const mpm::AbsorbingBoundary &a = s.absorbing_boundaries[k], &b = t.absorbing_boundaries[k];
@@ -327,6 +329,12 @@ TEST(MpmCaseWriter, EveryExampleMpmCaseReadWrittenAndReadAgainIsTheSameCase) {
 TEST(MpmCaseWriter, TheTestCasesWithEveryKeyReadWrittenAndReadAgainAreTheSameCase) {
   expect_round_trip(read_mpm_case_text(test_support::kMohrCoulombCase, "case.toml"));
   expect_round_trip(read_mpm_case_text(test_support::pile_case(), "pile.toml"));
+  const std::string surface =
+      test_support::replaced(test_support::kMohrCoulombCase, "local_damping = 0.2",
+                             "local_damping = 0.2\ncontact = \"surface\"");
+  const MpmCase with_surface = read_mpm_case_text(surface, "case.toml");
+  ASSERT_EQ(with_surface.solver.contact, mpm::ContactScheme::surface);
+  expect_round_trip(with_surface);
 }
 
 // A polygon with a friction angle and an apex angle whose radians need every digit, an

@@ -119,13 +119,7 @@ std::vector<double> slide_on_plane(double angle, double friction, const std::vec
   RectangleFill fill = test_support::block_fill(0.1, 0.5, 0.1, top, density);
   fill.initial_state.void_ratio = 0.7;
   Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
-  const double k0 = poisson / (1.0 - poisson);
-  for (std::size_t p = 0; p < particles.size(); ++p) {
-    const double vertical = -density * g * std::cos(angle) * (top - particles.position[p].y());
-    particles.state[p].stress[k22] = vertical;
-    particles.state[p].stress[k11] = particles.state[p].stress[k33] = k0 * vertical;
-    particles.external_force[p] = Vec2(particles.mass[p] * g * std::sin(angle), 0.0);
-  }
+  test_support::set_geostatic_on_plane(particles, density, g, angle, top, poisson);
   const auto model = std::make_shared<LinearElastic>(ElasticParameters{1.0e8, poisson});
   SolverSettings settings;
   settings.gravity = g * std::cos(angle);

@@ -1,6 +1,9 @@
 #pragma once
 // Builders for the set-ups the MPM tests share: a box with walls and a base, a block of particles.
 // Each sets only what its name says; the tests set the rest themselves.
+#include <cmath>
+
+#include "pilempm/core/tensor.hpp"
 #include "pilempm/mpm/grid.hpp"
 #include "pilempm/mpm/particles.hpp"
 
@@ -31,6 +34,22 @@ inline Particles particle_block(const Grid& grid, Geometry geometry, const Recta
   Particles particles;
   fill_rectangle(particles, grid, geometry, fill);
   return particles;
+}
+
+/// A block of density ρ with its top at y = `top` on a plane inclined by θ, in the frame of the
+/// plane (gravity g cos θ along −y from the solver): the geostatic stress σ_yy = −ρ g cos θ
+/// (top − y), σ_xx = σ_zz = K0 σ_yy with K0 = ν / (1 − ν), and g sin θ along +x as a load on each
+/// particle.
+inline void set_geostatic_on_plane(Particles& particles, double density, double gravity,
+                                   double angle, double top, double poisson) {
+  const double k0 = poisson / (1.0 - poisson);
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const double vertical =
+        -density * gravity * std::cos(angle) * (top - particles.position[p].y());
+    particles.state[p].stress[k22] = vertical;
+    particles.state[p].stress[k11] = particles.state[p].stress[k33] = k0 * vertical;
+    particles.external_force[p] = Vec2(particles.mass[p] * gravity * std::sin(angle), 0.0);
+  }
 }
 
 }  // namespace pilempm::mpm::test_support

@@ -79,8 +79,8 @@ MpmGridAxis read_axis(TableReader& grid, std::string_view key, std::vector<doubl
 
 // The keys of [solver] that only one analysis reads.
 const std::vector<std::string> kExplicitOnlyKeys = {
-    "scheme",       "flip_fraction",  "xpic_order",       "local_damping",
-    "mass_scaling", "courant_number", "fixed_time_step_s"};
+    "scheme",       "flip_fraction",  "xpic_order",        "local_damping",
+    "mass_scaling", "courant_number", "fixed_time_step_s", "contact"};
 const std::vector<std::string> kQuasiStaticOnlyKeys = {
     "displacement_step_m", "force_tolerance",        "max_iterations",         "max_cuts",
     "linear_solver",       "contact_penalty_factor", "newton_step_limit_cells"};
@@ -105,6 +105,8 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
     s.shape_function = *shape == "linear"  ? mpm::ShapeFunction::linear
                        : *shape == "ugimp" ? mpm::ShapeFunction::ugimp
                                            : mpm::ShapeFunction::cpgimp;
+  if (auto contact = solver->optional_choice("contact", {"nodes", "surface"}))
+    s.contact = *contact == "surface" ? mpm::ContactScheme::surface : mpm::ContactScheme::nodes;
   s.flip_fraction = solver->number_or("flip_fraction", s.flip_fraction, NumberRange::closed(0, 1));
   s.xpic_order = solver->integer_or("xpic_order", s.xpic_order, 1, 8);
   s.gravity = solver->number_or("gravity_m_per_s2", s.gravity, NumberRange::non_negative());

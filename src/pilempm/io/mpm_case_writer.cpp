@@ -225,6 +225,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
     t.number("mass_scaling", s.mass_scaling);
     t.number("courant_number", s.courant_number);
     t.number("fixed_time_step_s", s.fixed_time_step);
+    t.text("contact", s.contact == mpm::ContactScheme::surface ? "surface" : "nodes");
     return;
   }
   const mpm::quasi_static::Settings& q = c.quasi_static;

@@ -30,9 +30,11 @@ void dashpot_coefficients(const Grid& grid, const SolverSettings& settings,
 /// The update of one node over a step of length dt, once its mass, momentum and force are summed.
 class GridUpdate {
  public:
-  /// `dashpot_x`, `dashpot_y`: per node, empty without absorbing boundaries.
+  /// `dashpot_x`, `dashpot_y`: per node, empty without absorbing boundaries. `extra_force`: per
+  /// node a force added to the scattered one (the surface contact), or null.
   GridUpdate(Grid& grid, double local_damping, const std::vector<double>& dashpot_x,
-             const std::vector<double>& dashpot_y, NodeMotion* motion, double dt)
+             const std::vector<double>& dashpot_y, NodeMotion* motion, double dt,
+             const Vec2* extra_force = nullptr)
       : nodes_(grid.nodes()),
         free_x_(grid.free_x().data()),
         free_y_(grid.free_y().data()),
@@ -41,7 +43,8 @@ class GridUpdate {
         absorbing_(!dashpot_x.empty()),
         dashpot_x_(dashpot_x.data()),
         dashpot_y_(dashpot_y.data()),
-        dt_(dt) {}
+        dt_(dt),
+        extra_force_(extra_force) {}
 
   /// v = p / m; v^L = v + (f + f_damping) dt / m, with a dashpot -C v^L taken implicitly; the
   /// boundary conditions; Δv = v^L - v for FLIP. A node without mass is set at rest.
@@ -51,6 +54,10 @@ class GridUpdate {
     const double* free_y = free_y_;
     const double dt = dt_;
     const double mass = nodes.mass[n];
+    if (extra_force_) {
+      nodes.force_x[n] += extra_force_[n].x();
+      nodes.force_y[n] += extra_force_[n].y();
+    }
     if (mass <= 0.0) {
       nodes.velocity_x[n] = nodes.velocity_y[n] = 0.0;
       nodes.velocity_change_x[n] = nodes.velocity_change_y[n] = 0.0;
@@ -102,6 +109,7 @@ class GridUpdate {
   const double* dashpot_x_;
   const double* dashpot_y_;
   double dt_;
+  const Vec2* extra_force_;
 };
 
 }  // namespace pilempm::mpm

@@ -15,6 +15,16 @@
 
 namespace pilempm::mpm {
 
+namespace {
+
+// The run-state arrays of contact = surface.
+constexpr const char* kSurfaceForces = "surface_contact_tangential_force_N";
+constexpr const char* kSurfaceBodies = "surface_contact_body";
+constexpr const char* kSurfacePositions = "surface_contact_relative_position_m";
+constexpr const char* kSurfaceFrequency = "surface_contact_frequency_squared_per_s2";
+
+}  // namespace
+
 void SolverSettings::validate() const {
   if (!(flip_fraction >= 0.0 && flip_fraction <= 1.0))
     throw InvalidValue("flip_fraction", format_value(flip_fraction), "in [0, 1]");
@@ -34,6 +44,7 @@ void SolverSettings::validate() const {
     throw InvalidValue("fixed_time_step_s", format_value(fixed_time_step), ">= 0 (0: CFL step)");
   if (wave_speed_interval < 1)
     throw InvalidValue("wave_speed_interval", std::to_string(wave_speed_interval), ">= 1");
+  if (contact == ContactScheme::surface) surface_contact.validate();
   if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0 (0: default)");
   bool side_taken[4] = {false, false, false, false};
   for (const AbsorbingBoundary& boundary : absorbing_boundaries) {
@@ -159,6 +170,19 @@ SolverRunState Solver::run_state() const {
   state.wave_speed_step = wave_speed_step_;
   state.max_particle_speed = max_particle_speed_;
   state.rigid_body_forces = rigid_body_forces_;
+  if (!corner_contacts_.empty()) {
+    // contact = surface: the corners' friction histories and the springs' frequency bound.
+    std::vector<double> force, body, relative;
+    for (const CornerContact& c : corner_contacts_) {
+      force.insert(force.end(), {c.history.tangential_force.x(), c.history.tangential_force.y()});
+      body.push_back(c.history.body);
+      relative.insert(relative.end(), {c.relative_position.x(), c.relative_position.y()});
+    }
+    state.scheme_arrays = {{kSurfaceForces, std::move(force)},
+                           {kSurfaceBodies, std::move(body)},
+                           {kSurfacePositions, std::move(relative)},
+                           {kSurfaceFrequency, {surface_frequency_squared_}}};
+  }
   return state;
 }
 
@@ -180,6 +204,33 @@ void Solver::restore_run_state(const SolverRunState& state) {
   wave_speed_step_ = state.wave_speed_step;
   max_particle_speed_ = state.max_particle_speed;
   rigid_body_forces_ = state.rigid_body_forces;
+  corner_contacts_.clear();
+  surface_frequency_squared_ = 0.0;
+  const std::size_t corners = 4 * particles_.size();
+  auto array = [&](const char* name, std::size_t size) -> const std::vector<double>* {
+    for (const auto& [key, values] : state.scheme_arrays)
+      if (key == name) {
+        if (values.size() != size)
+          throw InvalidValue(fmt::format("run state array {}", name), std::to_string(values.size()),
+                             std::to_string(size));
+        return &values;
+      }
+    return nullptr;
+  };
+  const std::vector<double>* force = array(kSurfaceForces, 2 * corners);
+  const std::vector<double>* body = array(kSurfaceBodies, corners);
+  const std::vector<double>* relative = array(kSurfacePositions, 2 * corners);
+  const std::vector<double>* frequency = array(kSurfaceFrequency, 1);
+  if (force && body && relative && frequency) {
+    corner_contacts_.resize(corners);
+    for (std::size_t c = 0; c < corners; ++c) {
+      CornerContact& contact = corner_contacts_[c];
+      contact.history.tangential_force = Vec2((*force)[2 * c], (*force)[2 * c + 1]);
+      contact.history.body = static_cast<int>((*body)[c]);
+      contact.relative_position = Vec2((*relative)[2 * c], (*relative)[2 * c + 1]);
+    }
+    surface_frequency_squared_ = frequency->front();
+  }
 }
 
 std::size_t Solver::bytes_per_particle() const {
@@ -213,8 +264,12 @@ void Solver::advance(double dt) {
   const ParticlesToGrid to_grid(grid_, particles_, settings_.shape_function, axisymmetric,
                                 settings_.mass_scaling, gravity, stencils_.data(),
                                 start_radius_.data());
+  // Surface contact: the penalty forces at the corners at x^n, as nodal forces of the update.
+  const bool surface = settings_.contact == ContactScheme::surface;
+  if (surface) apply_surface_contact(dt);
   const GridUpdate grid_update(grid_, settings_.local_damping, dashpot_x_, dashpot_y_,
-                               node_motion_.data(), dt);
+                               node_motion_.data(), dt,
+                               surface && !rigid_bodies_.empty() ? surface_force_.data() : nullptr);
   std::vector<GridUpdateTally>& grid_tallies = reset_tallies(grid_update_tallies_);
   scatter_.run(
       grid_, stencils_, ScatterSums::mass_momentum_force,
@@ -224,9 +279,8 @@ void Solver::advance(double dt) {
       },
       [&](long n, int thread) { grid_update.node(n, grid_tallies[thread]); });
   add_grid_update_tallies();
-
   // Contact: the rigid bodies correct v^L and Δv (Coulomb friction); the forces on the bodies.
-  apply_contact(dt, ContactPass::after_grid_update);
+  if (!surface) apply_contact(dt, ContactPass::after_grid_update);
   // XPIC(m > 1): the PIC share's target.
   if (xpic_active()) compute_xpic_shift();
 
@@ -246,7 +300,7 @@ void Solver::advance(double dt) {
           remap.scatter(p, to_particles.move(p, motion_tallies[thread]), sums);
         },
         [&](long n, int) { remap.node(n); });
-    apply_contact(dt, ContactPass::after_remap);
+    if (!surface) apply_contact(dt, ContactPass::after_remap);
   } else {
     const auto count = static_cast<long>(particles_.size());
 #pragma omp parallel num_threads(threads_)

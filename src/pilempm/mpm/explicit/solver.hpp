@@ -36,6 +36,7 @@
 #include "pilempm/mpm/particles.hpp"
 #include "pilempm/mpm/rigid_body.hpp"
 #include "pilempm/mpm/shape_functions.hpp"
+#include "pilempm/mpm/surface_contact.hpp"
 
 namespace pilempm::mpm {
 
@@ -59,6 +60,17 @@ struct AbsorbingBoundary {
   double density = 0.0;       ///< ρ of the soil behind the side [kg/m^3], > 0
   double p_wave_speed = 0.0;  ///< c_p [m/s], >= 0
   double s_wave_speed = 0.0;  ///< c_s [m/s], >= 0
+};
+
+/// How the rigid bodies touch the soil.
+enum class ContactScheme {
+  /// At the grid nodes within the contact distance of the surface (half a cell by default): the
+  /// rigid-body form of the multi-velocity contact on the nodal velocities (contact.cpp).
+  nodes,
+  /// At the 4 corners of each particle's GIMP domain against the exact surface: the penalty law
+  /// with Coulomb friction of the quasi-static solver (mpm/surface_contact.hpp), once per step,
+  /// its force spread to the nodes with the hat functions at the corner (surface_contact.cpp).
+  surface,
 };
 
 struct SolverSettings {
@@ -90,6 +102,11 @@ struct SolverSettings {
   /// the volume-weighted mean over the particles of its grid cell (the deviatoric part is kept),
   /// in the spirit of B-bar/F-bar (Coombs et al. 2018, "F-bar MPM").
   bool volumetric_smoothing = false;
+  ContactScheme contact = ContactScheme::nodes;
+  /// The penalty law of contact = surface: penalty_factor β (k_n = β M A / d, as in the
+  /// quasi-static solver) and tangential_ratio; its stiffness_margin and vertex_radius are not
+  /// used.
+  ContactSettings surface_contact;
   /// Dashpots on sides of the grid, at most one per side.
   std::vector<AbsorbingBoundary> absorbing_boundaries;
 
@@ -115,7 +132,10 @@ class Solver final : public MpmState {
   /// The step the next call of step() will take [s]: the fixed step, or the Courant number times
   /// the smallest cell over max_p sqrt(M / (s ρ)) + max_p |v| (an upper bound of
   /// max_p (sqrt(M / (s ρ)) + |v|); M: the model's wave modulus at the particle's state, s: mass
-  /// scaling, ρ = m / V current).
+  /// scaling, ρ = m / V current). With contact = surface it is also at most the Courant number
+  /// times 2 / ω_c of the penalty springs of the last step, ω_c² = max_i K_i / m_i, K_i = Σ_q
+  /// S_i(x_q) k_q over the corners q in contact (a Gershgorin bound of the springs' frequencies on
+  /// the lumped nodal masses m_i).
   double next_time_step();
 
   const char* analysis() const override { return "explicit"; }
@@ -190,6 +210,10 @@ class Solver final : public MpmState {
   // velocities only.
   enum class ContactPass { after_grid_update, after_remap };
   void apply_contact(double dt, ContactPass pass);
+  // contact = surface (surface_contact.cpp): the penalty forces at the particles' corners at x^n
+  // into surface_force_ (per node), the forces on the bodies, the histories and the springs'
+  // frequency for the next step.
+  void apply_surface_contact(double dt);
   // XPIC(m), m > 1 (xpic.cpp): xpic_shift_ = v* - v^n at the nodes (zero on constrained
   // components).
   void compute_xpic_shift();
@@ -242,6 +266,18 @@ class Solver final : public MpmState {
   std::vector<GridUpdateTally> grid_update_tallies_;
   std::vector<ParticleMotionTally> particle_motion_tallies_;
   std::vector<StressUpdateTally> stress_update_tallies_;
+
+  // contact = surface: per particle corner (4 per particle, order of quasi_static) its friction
+  // history and its position relative to the body's box_min at the last step (for the slip);
+  // per node the contact force of the step and the nodes it touched; the largest Σ k_q / (s m_p).
+  struct CornerContact {
+    ContactHistory history;
+    Vec2 relative_position = Vec2::Zero();
+  };
+  std::vector<CornerContact> corner_contacts_;
+  std::vector<Vec2> surface_force_;
+  std::vector<int> surface_nodes_;
+  double surface_frequency_squared_ = 0.0;
 
   std::vector<RigidBody> rigid_bodies_;
   std::vector<RigidBodyForce> rigid_body_forces_;

@@ -29,7 +29,11 @@ double Solver::next_time_step() {
   if (!(speed > 0.0 && std::isfinite(speed)))
     throw Error(fmt::format("MPM: no finite wave speed for the time step in step {} ({} m/s)",
                             steps_ + 1, speed));
-  return settings_.courant_number * grid_.min_spacing() / speed;
+  double step = settings_.courant_number * grid_.min_spacing() / speed;
+  // The penalty springs of the surface contact: at most C 2 / ω_c (solver.hpp).
+  if (settings_.contact == ContactScheme::surface && surface_frequency_squared_ > 0.0)
+    step = std::min(step, settings_.courant_number * 2.0 / std::sqrt(surface_frequency_squared_));
+  return step;
 }
 
 }  // namespace pilempm::mpm

@@ -1,10 +1,10 @@
-#include "pilempm/mpm/quasi_static/surface_contact.hpp"
+#include "pilempm/mpm/surface_contact.hpp"
 
 #include <cmath>
 
 #include "pilempm/core/error.hpp"
 
-namespace pilempm::mpm::quasi_static {
+namespace pilempm::mpm {
 
 void ContactSettings::validate() const {
   if (!(penalty_factor > 0.0) || !std::isfinite(penalty_factor))
@@ -48,4 +48,4 @@ PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_in
   return contact;
 }
 
-}  // namespace pilempm::mpm::quasi_static
+}  // namespace pilempm::mpm

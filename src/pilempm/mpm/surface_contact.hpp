@@ -1,0 +1,64 @@
+#pragma once
+// Frictional penalty contact between a point of the soil and the exact surface of a rigid body,
+// shared by the quasi-static solver (in its Newton iterations) and the explicit solver (contact =
+// "surface", once per step).
+//
+// At a contact point q (a corner of a particle's GIMP domain) with gap g = signed distance to the
+// body's surface (< 0: inside) and outward normal n, the force on the soil is
+//   F = f_n n + f_t t,   f_n = k_n max(−g, 0),   t = (−n_y, n_x),
+// with the tangential force from a return map on the trial force (Wriggers 2006, Computational
+// Contact Mechanics, §5.2, the penalty regularisation of Coulomb's law):
+//   f_t^trial = f_t,n − k_t (Δs · t),   Δs the slip of the point relative to the body over the
+//   step, stick: |f_t^trial| <= μ f_n  ->  f_t = f_t^trial;   slip: f_t = μ f_n sign(f_t^trial).
+// Its stiffness K = −∂F/∂Δs (for the Newton matrix; the curvature of the surface is neglected):
+//   stick: k_n n n^T + k_t t t^T;   slip: k_n n n^T + μ k_n sign(f_t^trial) t n^T (not symmetric).
+#include "pilempm/mpm/particles.hpp"
+
+namespace pilempm::mpm {
+
+struct ContactSettings {
+  /// Penalty factor β: the normal stiffness of a point is k_n = β M_p A_q / d_p, M_p the
+  /// particle's constrained modulus (ConstitutiveModel::wave_modulus), A_q the point's share of
+  /// the domain's boundary (l_x + l_y, times r_q in axisymmetry), d_p = 2 min(l_x, l_y) the
+  /// particle size. The penetration under a contact stress σ_c is about σ_c d_p / (β M_p).
+  double penalty_factor = 2.0;
+  /// k_t = tangential_ratio · k_n.
+  double tangential_ratio = 0.1;
+  /// Points closer than this fraction of the particle size outside the surface carry the stick
+  /// stiffness in the first Newton matrix of an increment, without force (see penalty_contact).
+  double stiffness_margin = 0.01;
+  /// The bodies' vertices are rounded by this fraction of the grid's smallest spacing, so that
+  /// the normal turns continuously around a vertex for penetrated points too (0: sharp, the
+  /// default: on the pile, 0.25 made the Newton iterations fail at 0.5 D, docs/quasi-static.md).
+  double vertex_radius = 0.0;
+
+  /// Throws InvalidValue naming the first setting out of range.
+  void validate() const;
+};
+
+/// What a contact point carries from one converged step to the next.
+struct ContactHistory {
+  Vec2 tangential_force = Vec2::Zero();  ///< on the soil [N]
+  int body = -1;                         ///< the body it touches (-1: none)
+};
+
+struct PointContact {
+  bool active = false;
+  bool slip = false;
+  Vec2 force = Vec2::Zero();              ///< on the soil [N]
+  Mat2 stiffness = Mat2::Zero();          ///< −∂F/∂Δs [N/m]
+  double normal_force = 0.0;              ///< f_n [N]
+  double tangential_force = 0.0;          ///< f_t [N] along t
+  Vec2 tangential_vector = Vec2::Zero();  ///< f_t t [N]
+};
+
+/// The penalty law at one point; `previous_tangential_force` is the history's force (projected
+/// on the current tangent). A point just outside, 0 <= gap < margin, carries no force but the
+/// stick stiffness k_n n n^T + k_t t t^T, so that a body resting on a surface with zero gap (or
+/// an iterate that has just left it) does not leave the Newton matrix singular; it changes the
+/// path of the iterations, not their solution.
+PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
+                             const Vec2& previous_tangential_force, double normal_stiffness,
+                             double tangential_stiffness, double friction, double margin = 0.0);
+
+}  // namespace pilempm::mpm
