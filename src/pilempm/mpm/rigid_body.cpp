@@ -154,4 +154,18 @@ void RigidBody::restore_position(const std::vector<Vec2>& vertices, const Vec2& 
   displacement_ = displacement;
 }
 
+Particles particles_outside(const Particles& particles, const std::vector<RigidBody>& bodies) {
+  Particles outside;
+  outside.reserve(particles.size());
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const Vec2& x = particles.position[p];
+    if (std::any_of(bodies.begin(), bodies.end(),
+                    [&](const RigidBody& b) { return b.signed_distance(x) < 0.0; }))
+      continue;
+    outside.add({x, particles.velocity[p], particles.mass[p], particles.initial_volume[p],
+                 particles.initial_half_size[p], particles.material[p], particles.state[p]});
+  }
+  return outside;
+}
+
 }  // namespace pilempm::mpm

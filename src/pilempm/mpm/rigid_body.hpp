@@ -77,4 +77,8 @@ class RigidBody {
   Vec2 displacement_ = Vec2::Zero();
 };
 
+/// The particles whose centre lies inside none of the bodies (bodies wished in place: no
+/// particle starts inside one), in their order.
+Particles particles_outside(const Particles& particles, const std::vector<RigidBody>& bodies);
+
 }  // namespace pilempm::mpm

@@ -95,17 +95,7 @@ mpm::Particles make_mpm_particles(const MpmCase& c, const mpm::Grid& grid) {
   // A body stands where it is put (a pile wished in place): no particle starts inside it.
   std::vector<mpm::RigidBody> bodies;
   for (const MpmBody& b : c.bodies) bodies.push_back(make_rigid_body(b));
-  mpm::Particles outside;
-  outside.reserve(particles.size());
-  for (std::size_t p = 0; p < particles.size(); ++p) {
-    const mpm::Vec2& x = particles.position[p];
-    if (std::any_of(bodies.begin(), bodies.end(),
-                    [&](const mpm::RigidBody& b) { return b.signed_distance(x) < 0.0; }))
-      continue;
-    outside.add({x, particles.velocity[p], particles.mass[p], particles.initial_volume[p],
-                 particles.initial_half_size[p], particles.material[p], particles.state[p]});
-  }
-  return outside;
+  return mpm::particles_outside(particles, bodies);
 }
 
 void set_geostatic_state(const MpmCase& c, mpm::MpmState& state, double gravity) {

@@ -45,15 +45,9 @@ QuasiStaticSolver PileProblem::build() const {
   RigidBody pile =
       RigidBody::pile(0.5 * diameter, surface() - embedment_in_d * diameter, kPi / 3.0);
   pile.set_friction(friction);
-  Particles outside;
-  for (std::size_t p = 0; p < particles.size(); ++p)
-    if (!(pile.signed_distance(particles.position[p]) < 0.0))
-      outside.add({particles.position[p], particles.velocity[p], particles.mass[p],
-                   particles.initial_volume[p], particles.initial_half_size[p],
-                   particles.material[p], particles.state[p]});
   Settings s = settings;
   s.geometry = Geometry::axisymmetric;
-  QuasiStaticSolver solver(std::move(grid), std::move(outside), {model}, s);
+  QuasiStaticSolver solver(std::move(grid), particles_outside(particles, {pile}), {model}, s);
   solver.add_rigid_body(std::move(pile));
   return solver;
 }

@@ -28,6 +28,14 @@ constexpr int kMaxCellNodes = 36;
 using Mat4 = Eigen::Matrix4d;
 using Vec4 = Eigen::Vector4d;
 
+// The rows and columns 11, 22, 33, 12 of a Mandel stiffness.
+Mat4 in_plane(const Mat6& full) {
+  Mat4 d;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) d(r, c) = full(kComponents[r], kComponents[c]);
+  return d;
+}
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -225,6 +233,7 @@ QuasiStaticSolver::QuasiStaticSolver(Grid grid, Particles particles,
           particles_.position[i] + Vec2((q & 1) ? l.x() : -l.x(), (q & 2) ? l.y() : -l.y());
   }
   node_displacement_.assign(std::size_t(grid_.node_count()), Vec2::Zero());
+  contact_modulus_.assign(materials_.size(), 0.0);
 }
 
 int QuasiStaticSolver::add_rigid_body(RigidBody body) {
@@ -255,7 +264,6 @@ void QuasiStaticSolver::set_material(int index, ModelPtr model) {
 }
 
 void QuasiStaticSolver::fix_contact_modulus() {
-  contact_modulus_.assign(materials_.size(), 0.0);
   for (std::size_t i = 0; i < particles_.size(); ++i) {
     const std::size_t m = std::size_t(particles_.material[i]);
     contact_modulus_[m] =
@@ -464,14 +472,11 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     // derivative would leave the nodes such particles alone support without stiffness): a small
     // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only.
     const auto elastic_fallback = [&] {
+      // E from the constrained modulus M = E (1 − ν) / ((1 + ν)(1 − 2ν)).
       const double m = settings_.floor_stiffness * model.wave_modulus(p.state[std::size_t(i)]);
-      const double shear = m * (1.0 - 2.0 * kFallbackPoisson) / (2.0 * (1.0 - kFallbackPoisson));
-      d.setZero();
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-          if (axisymmetric || (r != 2 && c != 2))
-            d(r, c) = m - 2.0 * shear + (r == c ? 2.0 * shear : 0.0);
-      d(3, 3) = 2.0 * shear;
+      const double nu = kFallbackPoisson;
+      d = in_plane(
+          ElasticParameters{m * (1.0 + nu) * (1.0 - 2.0 * nu) / (1.0 - nu), nu}.stiffness());
     };
     if (update.mean_stress_floor_hits > 0) {
       elastic_fallback();
@@ -481,9 +486,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         kind == TangentKind::elastic ||
         (kind == TangentKind::automatic && dynamic_cast<const LinearElastic*>(&model) != nullptr);
     if (analytic) {
-      const Mat6 full = model.tangent(state, strain);
-      for (int r = 0; r < 4; ++r)
-        for (int c = 0; c < 4; ++c) d(r, c) = full(kComponents[r], kComponents[c]);
+      d = in_plane(model.tangent(state, strain));
       continue;
     }
     // Fellin & Ostermann (2002): forward differences of the integrated update.
@@ -909,7 +912,9 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   const Energies start_energies = energies_;
   const Vec2 start_reaction = boundary_reaction_;
   const double start_penetration = max_penetration_;
-  if (contact_modulus_.empty()) fix_contact_modulus();
+  if (std::all_of(contact_modulus_.begin(), contact_modulus_.end(),
+                  [](double m) { return m == 0.0; }))
+    fix_contact_modulus();
 
   double done = 0.0, size = 1.0;
   LoadStep remaining = load;
@@ -965,7 +970,7 @@ constexpr const char* kNodeDisplacements = "last_node_displacement_m";
 // gravity multiplier, traction multiplier, last body step [m], largest penetration [m],
 // boundary reaction x, y [N] (the work account is the run state's energies)
 constexpr const char* kLoad = "quasi_static_load";
-constexpr const char* kContactModulus = "contact_modulus_Pa";  // per material (empty: not fixed)
+constexpr const char* kContactModulus = "contact_modulus_Pa";  // per material (0: not fixed)
 
 std::vector<double> flat(const std::vector<Vec2>& v) {
   std::vector<double> out;
@@ -1025,12 +1030,7 @@ void QuasiStaticSolver::restore_run_state(const SolverRunState& state) {
   const std::vector<double>& bodies = array(kCornerBodies, corners);
   const std::vector<double>& displacements = array(kNodeDisplacements, 2 * nodes);
   const std::vector<double>& load = array(kLoad, 6);
-  const auto modulus =
-      std::find_if(state.scheme_arrays.begin(), state.scheme_arrays.end(),
-                   [](const auto& named) { return named.first == kContactModulus; });
-  const bool fixed = modulus != state.scheme_arrays.end() && !modulus->second.empty();
-  contact_modulus_ = fixed ? array(kContactModulus, materials_.size()) : std::vector<double>{};
-  if (modulus == state.scheme_arrays.end()) array(kContactModulus, 0);  // throws: no array
+  contact_modulus_ = array(kContactModulus, materials_.size());
   contact_history_.assign(corners, ContactHistory{});
   corner_position_.resize(corners);
   for (std::size_t c = 0; c < corners; ++c) {

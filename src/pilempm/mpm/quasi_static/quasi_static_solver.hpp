@@ -250,7 +250,8 @@ class QuasiStaticSolver final : public MpmState {
   std::vector<Vec2> corner_position_;
   /// The modulus of the contact penalty per material [Pa]: the largest constrained modulus of
   /// the material's particles at the first load step, then fixed (a penalty that followed the
-  /// particles' stiffness would change the force of an unchanged penetration between steps).
+  /// particles' stiffness would change the force of an unchanged penetration between steps;
+  /// all 0: not fixed yet).
   std::vector<double> contact_modulus_;
   double last_body_step_ = 0.0;  // largest body displacement of the last increment [m]
   Vec2 boundary_reaction_ = Vec2::Zero();
