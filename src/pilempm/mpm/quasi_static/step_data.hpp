@@ -1,0 +1,112 @@
+// Internal to the quasi-static solver (not installed API): what the iterations of a load step
+// share and what evaluating one iterate yields, and the small helpers the solver's files use.
+#pragma once
+
+#include <array>
+#include <chrono>
+#include <vector>
+
+#include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
+#include "pilempm/mpm/quasi_static/rounded_surface.hpp"
+
+namespace pilempm::mpm::quasi_static {
+
+namespace detail {
+
+// The Mandel components an in-plane problem uses, in the order of the 4-row B matrices.
+constexpr int kComponents[4] = {k11, k22, k33, k12};
+constexpr int kCorners = 4;
+// Poisson's ratio of the elastic stiffness that stands in for the tangent of a particle on the
+// model's stress floor (or whose perturbation leaves the model's domain).
+constexpr double kFallbackPoisson = 0.3;
+// The most nodes the particles of one cell reach together (volumetric averaging).
+constexpr int kMaxCellNodes = 36;
+using Mat4 = Eigen::Matrix4d;
+using Vec4 = Eigen::Vector4d;
+
+// The rows and columns 11, 22, 33, 12 of a Mandel stiffness.
+inline Mat4 in_plane(const Mat6& full) {
+  Mat4 d;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) d(r, c) = full(kComponents[r], kComponents[c]);
+  return d;
+}
+
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The weights of a particle's stencil as a flat list of nodes (row-major over the stencil).
+struct ParticleNodes {
+  int count = 0;
+  int node[AxisWeights::kMaxNodes * AxisWeights::kMaxNodes];
+  double weight[AxisWeights::kMaxNodes * AxisWeights::kMaxNodes];
+  Vec2 gradient[AxisWeights::kMaxNodes * AxisWeights::kMaxNodes];
+};
+
+inline void flatten(const Stencil& stencil, int nx, ParticleNodes& out) {
+  out.count = 0;
+  for (int b = 0; b < stencil.y.count; ++b)
+    for (int a = 0; a < stencil.x.count; ++a) {
+      const int k = out.count++;
+      out.node[k] = (stencil.y.first + b) * nx + stencil.x.first + a;
+      out.weight[k] = stencil.x.weight[a] * stencil.y.weight[b];
+      out.gradient[k] = Vec2(stencil.x.gradient[a] * stencil.y.weight[b],
+                             stencil.x.weight[a] * stencil.y.gradient[b]);
+    }
+}
+
+// Length of node i's share of an axis (half of each adjacent cell) as the interval [lo, hi].
+inline void node_share(const GridAxis& axis, int i, double& lo, double& hi) {
+  lo = i > 0 ? 0.5 * (axis.node(i - 1) + axis.node(i)) : axis.node(i);
+  hi = i + 1 < axis.node_count() ? 0.5 * (axis.node(i) + axis.node(i + 1)) : axis.node(i);
+}
+
+}  // namespace detail
+
+// What the iterations of one sub-increment share: the reference configuration's stencils and
+// the unknowns.
+struct QuasiStaticSolver::StepSetup {
+  std::vector<detail::ParticleNodes> nodes;  // per particle
+  std::vector<int> dof;                      // per node component (2 per node): unknown index or -1
+  std::vector<char> active;                  // per node
+  int unknowns = 0;
+  std::vector<char> near_body;  // per particle: whether its corners are checked for contact
+  struct GhostSpring {
+    int node_a, node_b;
+    double stiffness;
+  };
+  std::vector<GhostSpring> ghosts;
+  std::vector<detail::RoundedSurface> surfaces;  // per body, at its start-of-increment position
+  // Volumetric averaging (Settings::volumetric_averaging): per cell, the nodes its particles
+  // reach and the volume-weighted mean volumetric row b̄ (x, y per node); per particle its cell
+  // and where each of its nodes sits in the cell's list.
+  struct CellMean {
+    int count = 0;
+    int node[detail::kMaxCellNodes];
+    Vec2 row[detail::kMaxCellNodes];
+  };
+  std::vector<CellMean> cells;
+  std::vector<int> cell;                  // per particle
+  std::vector<std::array<int, 16>> slot;  // per particle and stencil node
+};
+
+// The results of evaluating one iterate.
+struct QuasiStaticSolver::Trial {
+  std::vector<MaterialState> state;
+  std::vector<Vec6> strain_increment;
+  std::vector<Mat2> gradient;  // G = Σ Δu_i ⊗ ∇S_i
+  std::vector<double> hoop;
+  std::vector<detail::Mat4> tangent;
+  std::vector<Vec2> node_displacement;              // per node
+  std::vector<double> internal, external, contact;  // per node component
+  std::vector<PointContact> corner;                 // per particle corner
+  std::vector<int> corner_body, corner_part;        // per particle corner
+  std::vector<double> corner_gap;                   // per particle corner
+  Eigen::VectorXd residual;                         // per unknown
+  std::vector<Eigen::Triplet<double>> triplets;
+  double reference_force = 0.0;
+  int floor_particles = 0;  // stress updates that ended on the model's mean stress floor
+};
+
+}  // namespace pilempm::mpm::quasi_static
