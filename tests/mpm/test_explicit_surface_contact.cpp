@@ -155,6 +155,36 @@ TEST(ExplicitSurfaceContact, BlockSticksOnAnInclinedPlaneBelowTheFrictionAngle) 
   EXPECT_NEAR(mean.total.x() / (weight * std::sin(angle)), 1.0, 0.03);
 }
 
+// A restart from the run state (the corners' friction histories, the springs' frequency bound and
+// the fixed penalty modulus) continues the sliding block to the bit, and the stored modulus is
+// the block's constrained modulus M = E (1 − ν) / ((1 + ν)(1 − 2ν)).
+TEST(ExplicitSurfaceContact, ARestartFromTheRunStateContinuesToTheBit) {
+  const double angle = 30.0 * kPi / 180.0, friction = 0.3;
+  Solver straight = block_on_plane(angle, friction, 0.0);
+  straight.run_until(0.03);
+  const SolverRunState state = straight.run_state();
+  const Particles particles = straight.particles();
+  const std::vector<double>* modulus = nullptr;
+  for (const auto& [key, values] : state.scheme_arrays)
+    if (key == "surface_contact_modulus_Pa") modulus = &values;
+  ASSERT_NE(modulus, nullptr);
+  ASSERT_EQ(modulus->size(), 1u);
+  const double expected = kYoung * (1.0 - kPoisson) / ((1.0 + kPoisson) * (1.0 - 2.0 * kPoisson));
+  EXPECT_NEAR(modulus->front() / expected, 1.0, 1e-12);
+
+  Solver restarted = block_on_plane(angle, friction, 0.0);
+  restarted.particles() = particles;
+  restarted.restore_run_state(state);
+  straight.run_until(0.06);
+  restarted.run_until(0.06);
+  ASSERT_EQ(restarted.steps(), straight.steps());
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    EXPECT_EQ(restarted.particles().position[p], straight.particles().position[p]) << p;
+    EXPECT_EQ(restarted.particles().velocity[p], straight.particles().velocity[p]) << p;
+  }
+  EXPECT_EQ(restarted.rigid_body_force(0).total, straight.rigid_body_force(0).total);
+}
+
 // A free elastic block thrown at the floor without gravity or damping (μ = 0.3): it bounces, and
 // after it has left the floor neither its kinetic energy nor its kinetic plus strain energy is
 // above the kinetic energy it arrived with; with β = 200 the penalty springs set the time step.

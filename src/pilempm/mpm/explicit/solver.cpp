@@ -22,6 +22,7 @@ constexpr const char* kSurfaceForces = "surface_contact_tangential_force_N";
 constexpr const char* kSurfaceBodies = "surface_contact_body";
 constexpr const char* kSurfacePositions = "surface_contact_relative_position_m";
 constexpr const char* kSurfaceFrequency = "surface_contact_frequency_squared_per_s2";
+constexpr const char* kSurfaceModulus = "surface_contact_modulus_Pa";  // per material
 
 }  // namespace
 
@@ -181,7 +182,8 @@ SolverRunState Solver::run_state() const {
     state.scheme_arrays = {{kSurfaceForces, std::move(force)},
                            {kSurfaceBodies, std::move(body)},
                            {kSurfacePositions, std::move(relative)},
-                           {kSurfaceFrequency, {surface_frequency_squared_}}};
+                           {kSurfaceFrequency, {surface_frequency_squared_}},
+                           {kSurfaceModulus, surface_contact_modulus_}};
   }
   return state;
 }
@@ -206,6 +208,7 @@ void Solver::restore_run_state(const SolverRunState& state) {
   rigid_body_forces_ = state.rigid_body_forces;
   corner_contacts_.clear();
   surface_frequency_squared_ = 0.0;
+  surface_contact_modulus_.clear();
   const std::size_t corners = 4 * particles_.size();
   auto array = [&](const char* name, std::size_t size) -> const std::vector<double>* {
     for (const auto& [key, values] : state.scheme_arrays)
@@ -231,6 +234,10 @@ void Solver::restore_run_state(const SolverRunState& state) {
     }
     surface_frequency_squared_ = frequency->front();
   }
+  // A checkpoint written before the moduli were stored has none: they are fixed again at the
+  // next step, from the restored state.
+  if (const std::vector<double>* modulus = array(kSurfaceModulus, models_.size()))
+    surface_contact_modulus_ = *modulus;
 }
 
 std::size_t Solver::bytes_per_particle() const {

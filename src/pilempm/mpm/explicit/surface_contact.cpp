@@ -19,7 +19,8 @@ constexpr int kCorners = 4;  // (-l_x, -l_y), (+l_x, -l_y), (-l_x, +l_y), (+l_x,
 // Per particle near a body and per corner q = x_p + (±l_x, ±l_y) (the current GIMP domain):
 //   g, n, part = the body's exact surface query at x_q (g < 0: inside);
 //   k_n = β M_p A_q / d_p, A_q = l_x + l_y (times r_q in axisymmetry), d_p = 2 min(l_x, l_y),
-//   M_p the wave modulus at the particle's state (as the quasi-static solver), k_t = ratio k_n;
+//   M_p the material's penalty modulus: the largest wave modulus of its particles at the first
+//   step, then fixed (as in the quasi-static solver), k_t = ratio k_n;
 //   Δs = the corner's motion relative to the body since the last step (zero at first touch);
 //   F_q = penalty_contact(g, n, Δs, f_t of the last step, k_n, k_t, μ), the force on the soil.
 // F_q goes to the nodes with the coefficients of the corner's affine motion (as in the quasi-static
@@ -45,6 +46,14 @@ void Solver::apply_surface_contact(double dt) {
     force.total.setZero();
     for (Vec2& part : force.parts) part.setZero();
   }
+  if (surface_contact_modulus_.size() != models_.size()) {
+    surface_contact_modulus_.assign(models_.size(), 0.0);
+    for (std::size_t p = 0; p < count; ++p) {
+      const auto m = std::size_t(particles_.material[p]);
+      surface_contact_modulus_[m] =
+          std::max(surface_contact_modulus_[m], models_[m]->wave_modulus(particles_.state[p]));
+    }
+  }
   const int nx = grid_.nx();
   const double beta = settings_.surface_contact.penalty_factor;
   const double tangential_ratio = settings_.surface_contact.tangential_ratio;
@@ -54,8 +63,9 @@ void Solver::apply_surface_contact(double dt) {
   for (std::size_t p = 0; p < count; ++p) {
     const Vec2& x = particles_.position[p];
     const Vec2& l = particles_.half_size[p];
-    double modulus = -1.0;   // evaluated at the first corner near a body
+    const double modulus = surface_contact_modulus_[std::size_t(particles_.material[p])];
     double stiffness = 0.0;  // Σ k_n of the corners near a body
+    bool stencil_ready = false;
     Stencil stencil;
     for (int q = 0; q < kCorners; ++q) {
       const Vec2 offset((q & 1) ? l.x() : -l.x(), (q & 2) ? l.y() : -l.y());
@@ -71,8 +81,8 @@ void Solver::apply_surface_contact(double dt) {
           continue;
         const SurfaceQuery hit = body.query(corner);
         if (!(hit.distance < margin)) continue;
-        if (modulus < 0.0) {
-          modulus = models_[std::size_t(particles_.material[p])]->wave_modulus(particles_.state[p]);
+        if (!stencil_ready) {
+          stencil_ready = true;
           compute_stencil(grid_, settings_.shape_function, x.x(), x.y(), l.x(), l.y(), stencil);
         }
         const double area = (l.x() + l.y()) * (axisymmetric ? std::abs(corner.x()) : 1.0);
