@@ -1,5 +1,6 @@
 #include "pilempm/mpm/surface_contact.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "pilempm/core/error.hpp"
@@ -46,6 +47,16 @@ PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_in
   contact.tangential_vector = contact.tangential_force * tangent;
   contact.force = contact.normal_force * normal + contact.tangential_force * tangent;
   return contact;
+}
+
+std::vector<double> penalty_moduli(const Particles& particles,
+                                   const std::vector<ModelPtr>& models) {
+  std::vector<double> modulus(models.size(), 0.0);
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    const auto m = std::size_t(particles.material[p]);
+    modulus[m] = std::max(modulus[m], models[m]->wave_modulus(particles.state[p]));
+  }
+  return modulus;
 }
 
 }  // namespace pilempm::mpm

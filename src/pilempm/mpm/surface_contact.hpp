@@ -12,6 +12,9 @@
 //   step, stick: |f_t^trial| <= μ f_n  ->  f_t = f_t^trial;   slip: f_t = μ f_n sign(f_t^trial).
 // Its stiffness K = −∂F/∂Δs (for the Newton matrix; the curvature of the surface is neglected):
 //   stick: k_n n n^T + k_t t t^T;   slip: k_n n n^T + μ k_n sign(f_t^trial) t n^T (not symmetric).
+#include <vector>
+
+#include "pilempm/constitutive/constitutive_model.hpp"
 #include "pilempm/mpm/particles.hpp"
 
 namespace pilempm::mpm {
@@ -60,5 +63,11 @@ struct PointContact {
 PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
                              const Vec2& previous_tangential_force, double normal_stiffness,
                              double tangential_stiffness, double friction, double margin = 0.0);
+
+/// The penalty modulus M_c of each material (in k_n = β M_c A_q / d_p): the largest wave modulus
+/// of its particles at their current state (0 for a material without particles). Both analyses
+/// fix it at their first step, so that the force of an unchanged penetration does not follow the
+/// sand's stiffening (docs/quasi-static.md, "Contact with the exact surface").
+std::vector<double> penalty_moduli(const Particles& particles, const std::vector<ModelPtr>& models);
 
 }  // namespace pilempm::mpm

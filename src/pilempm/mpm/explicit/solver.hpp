@@ -278,10 +278,8 @@ class Solver final : public MpmState {
   std::vector<Vec2> surface_force_;
   std::vector<int> surface_nodes_;
   double surface_frequency_squared_ = 0.0;
-  // contact = surface: the modulus of each material's penalty springs (k_n = β M A / h), fixed at
-  // the first step as the largest wave modulus of the material's particles (as in the quasi-static
-  // solver), so that the force of an unchanged penetration does not follow the sand's stiffening
-  // (docs/quasi-static.md, "Contact with the exact surface"). Empty until fixed.
+  // contact = surface: each material's penalty modulus (mpm::penalty_moduli), fixed at the first
+  // step as in the quasi-static solver. Empty until fixed.
   std::vector<double> surface_contact_modulus_;
 
   std::vector<RigidBody> rigid_bodies_;

@@ -46,14 +46,8 @@ void Solver::apply_surface_contact(double dt) {
     force.total.setZero();
     for (Vec2& part : force.parts) part.setZero();
   }
-  if (surface_contact_modulus_.size() != models_.size()) {
-    surface_contact_modulus_.assign(models_.size(), 0.0);
-    for (std::size_t p = 0; p < count; ++p) {
-      const auto m = std::size_t(particles_.material[p]);
-      surface_contact_modulus_[m] =
-          std::max(surface_contact_modulus_[m], models_[m]->wave_modulus(particles_.state[p]));
-    }
-  }
+  if (surface_contact_modulus_.size() != models_.size())
+    surface_contact_modulus_ = penalty_moduli(particles_, materials_);
   const int nx = grid_.nx();
   const double beta = settings_.surface_contact.penalty_factor;
   const double tangential_ratio = settings_.surface_contact.tangential_ratio;

@@ -113,14 +113,6 @@ void QuasiStaticSolver::set_material(int index, ModelPtr model) {
   materials_[std::size_t(index)] = std::move(model);
 }
 
-void QuasiStaticSolver::fix_contact_modulus() {
-  for (std::size_t i = 0; i < particles_.size(); ++i) {
-    const std::size_t m = std::size_t(particles_.material[i]);
-    contact_modulus_[m] =
-        std::max(contact_modulus_[m], materials_[m]->wave_modulus(particles_.state[i]));
-  }
-}
-
 bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& load,
                                             SubIncrementRecord& record, LoadStepResult& result) {
   // The sub-increment's targets, linear in the fraction of the step from the current state.
@@ -357,7 +349,7 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   const double start_penetration = max_penetration_;
   if (std::all_of(contact_modulus_.begin(), contact_modulus_.end(),
                   [](double m) { return m == 0.0; }))
-    fix_contact_modulus();
+    contact_modulus_ = penalty_moduli(particles_, materials_);
 
   double done = 0.0, size = 1.0;
   LoadStep remaining = load;

@@ -227,7 +227,6 @@ class QuasiStaticSolver final : public MpmState {
   bool solve_sub_increment(double fraction, const LoadStep& load, SubIncrementRecord& record,
                            LoadStepResult& result);
   void build_setup(StepSetup& setup) const;
-  void fix_contact_modulus();
   // Evaluates the iterate: stresses, internal/external/contact forces, residual; with
   // `tangent`, the Newton matrix too. Returns false when a model update fails.
   bool evaluate(const StepSetup& setup, const std::vector<double>& du, double gravity,
