@@ -102,6 +102,11 @@ void apply_environment(Settings& settings) {
   if (const char* v = std::getenv("QS_BBAR")) settings.volumetric_averaging = std::atoi(v) != 0;
   if (const char* v = std::getenv("QS_STEP_LIMIT")) settings.step_limit = std::atof(v);
   if (const char* v = std::getenv("QS_FLOOR_STIFFNESS")) settings.floor_stiffness = std::atof(v);
+  if (const char* v = std::getenv("QS_FORCE_TOLERANCE")) settings.force_tolerance = std::atof(v);
+  if (const char* v = std::getenv("QS_MAX_ITERATIONS")) settings.max_iterations = std::atoi(v);
+  if (const char* v = std::getenv("QS_SMOOTHING")) settings.contact.smoothing = std::atof(v);
+  if (const char* v = std::getenv("QS_TANGENTIAL_RATIO"))
+    settings.contact.tangential_ratio = std::atof(v);
 }
 
 // With QS_VERBOSE set: per sub-increment ||R||/F_ref, the energy norm, the line search's step
@@ -179,6 +184,7 @@ int pile_curve(const char* path, const std::string& sand, int cells_per_d, int s
     problem.model = pile_mohr_coulomb_sand();
   }
   if (const char* v = std::getenv("QS_EMBEDMENT_D")) problem.embedment_in_d = std::atof(v);
+  if (const char* v = std::getenv("QS_FRICTION")) problem.friction = std::atof(v);
   apply_environment(problem.settings);
   QuasiStaticSolver solver = problem.build();
   LoadStep geostatic;
@@ -193,9 +199,20 @@ int pile_curve(const char* path, const std::string& sand, int cells_per_d, int s
   std::FILE* csv = open_csv(path);
   if (csv == nullptr) return 1;
   std::fprintf(csv, "depth_over_d,head_force_N,iterations,cuts,penetration_over_cell\n");
+  const bool check = std::getenv("QS_CHECK_TANGENT") != nullptr;
   auto row = [&](const LoadStepResult& r) {
     print_iterations(r);
     if (!r.converged) return;
+    if (check) {  // the Newton matrix against the residual's derivative at the next predictor
+      LoadStep next;
+      next.gravity_multiplier = problem.gravity_multiplier;
+      next.body_displacement = {Vec2(0.0, -problem.diameter / steps_per_d)};
+      const TangentCheck t = solver.check_tangent(next);
+      std::printf(
+          "tangent check: total %.2e material %.2e contact %.2e, worst at (%.4f, %.4f) %c\n",
+          t.total, t.material, t.contact, t.worst_node.x(), t.worst_node.y(),
+          t.worst_component == 0 ? 'x' : 'y');
+    }
     std::fprintf(csv, "%.6f,%.6f,%d,%d,%.3e\n",
                  -solver.rigid_body(0).displacement().y() / problem.diameter,
                  2.0 * kPi * solver.body_force(0).total.y(), r.iterations, r.cuts,

@@ -47,6 +47,44 @@ TEST(QuasiStaticContactLaw, StickSlipAndItsStiffnessMatchDifferences) {
   EXPECT_FALSE(penalty_contact(1e-6, n, Vec2::Zero(), Vec2::Zero(), kn, kt, mu).active);
 }
 
+// The smoothed normal force: continuous with its slope at p = 0 and p = δ, the linear law shifted
+// by δ/2 beyond, and the stiffness (stick and slip) its derivative inside the smoothing depth.
+TEST(QuasiStaticContactLaw, TheSmoothedNormalForceIsContinuouslyDifferentiable) {
+  const Vec2 n(0.6, 0.8), t(-0.8, 0.6);
+  const double kn = 1.0e6, kt = 5.0e5, mu = 0.4, delta = 1e-3;
+  const auto force = [&](double p, const Vec2& slip) {
+    return penalty_contact(-p, n, slip, Vec2::Zero(), kn, kt, mu, 0.0, delta);
+  };
+  EXPECT_NEAR(force(0.5 * delta, Vec2::Zero()).normal_force, kn * 0.125 * delta, 1e-12 * kn);
+  EXPECT_NEAR(force(3.0 * delta, Vec2::Zero()).normal_force, kn * 2.5 * delta, 1e-12 * kn);
+  for (const double at : {1e-9, delta}) {  // value and slope meet at both ends of the ramp
+    const double e = 1e-9 * delta;
+    EXPECT_NEAR(force(at + e, Vec2::Zero()).normal_force, force(at - e, Vec2::Zero()).normal_force,
+                1e-6 * kn * delta);
+    const double below =
+        (force(at, Vec2::Zero()).normal_force - force(at - e, Vec2::Zero()).normal_force) / e;
+    const double above =
+        (force(at + e, Vec2::Zero()).normal_force - force(at, Vec2::Zero()).normal_force) / e;
+    EXPECT_NEAR(below, above, 1e-5 * kn);
+  }
+  // The normal stiffness vanishes where the point enters contact (the stick stiffness k_t t t^T
+  // stays).
+  EXPECT_NEAR(n.dot(force(1e-12, Vec2::Zero()).stiffness * n), 0.0, 1e-8 * kn);
+  // Inside the ramp, in stick (small slip) and slip (large): -dF/dΔs by central differences.
+  const double p = 0.4 * delta;
+  for (const Vec2& base : {Vec2(1e-6 * t), Vec2(1e-2 * t)}) {
+    const PointContact c = force(p, base);
+    for (int k = 0; k < 2; ++k) {
+      const double h = 1e-10;
+      Vec2 e = Vec2::Zero();
+      e[k] = h;
+      const Vec2 derivative =
+          -(force(p - n.dot(e), base + e).force - force(p + n.dot(e), base - e).force) / (2.0 * h);
+      EXPECT_NEAR((derivative - c.stiffness.col(k)).norm(), 0.0, 1e-5 * kn);
+    }
+  }
+}
+
 // Verification 5: an elastic block on a rough rigid floor (μ = 0.5), first loaded by its weight,
 // then pushed sideways by a smooth rigid plate. Below μ N the floor sticks and takes the push;
 // once the block slides the floor's tangential force is μ times its normal force.

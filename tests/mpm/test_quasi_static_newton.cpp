@@ -11,6 +11,7 @@
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
+#include "pilempm/mpm/quasi_static/pile_problem.hpp"
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 
 namespace pilempm::mpm::quasi_static {
@@ -229,6 +230,30 @@ TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIteratio
   const double expected = -density * 9.81 * 60.0 * (height - 0.25 * h) - 1e3;
   EXPECT_NEAR(p.state[base].stress[k22], expected,
               density * 9.81 * 60.0 * h / 4.0 + 1e-3 * std::abs(expected));
+}
+
+// The Newton matrix is the derivative of the residual: the Mohr-Coulomb pile pushed 0.3 D, then
+// at the next step's predictor, K v against central differences of R along a pseudo-random v,
+// for the material part (the perturbation tangent) and the contact part (the penalty law's
+// stiffness through the corners' affine motion). A wrong sign or a missing term in either part
+// shows as an error of order 1.
+TEST(QuasiStaticNewton, TheMatrixIsTheResidualsDerivativeOnThePilePush) {
+  PileProblem problem;
+  problem.model = pile_mohr_coulomb_sand();
+  QuasiStaticSolver solver = problem.build();
+  LoadStep load;
+  load.gravity_multiplier = problem.gravity_multiplier;
+  for (int step = 0; step <= 6; ++step) {
+    load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
+    ASSERT_TRUE(solver.solve_step(load).converged) << "step " << step;
+  }
+  ASSERT_GT(solver.body_force(0).total.y(), 0.0);  // the cone is in the sand
+  const TangentCheck check = solver.check_tangent(load);
+  std::printf("matrix against differences: total %.2e, material %.2e, contact %.2e (%d unknowns)\n",
+              check.total, check.material, check.contact, check.unknowns);
+  EXPECT_LT(check.total, 1e-2);
+  EXPECT_LT(check.material, 1e-2);
+  EXPECT_LT(check.contact, 1e-6);
 }
 
 }  // namespace

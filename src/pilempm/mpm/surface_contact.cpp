@@ -14,13 +14,16 @@ void ContactSettings::validate() const {
     throw InvalidValue("contact tangential_ratio", format_value(tangential_ratio), "> 0");
   if (!(stiffness_margin >= 0.0) || !std::isfinite(stiffness_margin))
     throw InvalidValue("contact stiffness_margin", format_value(stiffness_margin), ">= 0");
-  if (!(vertex_radius >= 0.0 && vertex_radius <= 0.5))
-    throw InvalidValue("contact vertex_radius", format_value(vertex_radius), "in [0, 0.5]");
+  if (!(smoothing >= 0.0 && smoothing <= 1.0))
+    throw InvalidValue("contact smoothing", format_value(smoothing), "in [0, 1]");
+  if (!(vertex_radius >= 0.0 && vertex_radius <= 2.0))
+    throw InvalidValue("contact vertex_radius", format_value(vertex_radius), "in [0, 2]");
 }
 
 PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
                              const Vec2& previous_tangential_force, double normal_stiffness,
-                             double tangential_stiffness, double friction, double margin) {
+                             double tangential_stiffness, double friction, double margin,
+                             double smoothing) {
   PointContact contact;
   const Vec2 tangent(-normal.y(), normal.x());
   if (gap >= 0.0 && gap < margin) {
@@ -30,11 +33,19 @@ PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_in
   }
   if (!(gap < 0.0)) return contact;
   contact.active = true;
-  contact.normal_force = -normal_stiffness * gap;
+  // f_n(p), p = −g: quadratic up to p = δ, then linear (C¹ at p = 0 and p = δ).
+  const double penetration = -gap;
+  double normal_slope = normal_stiffness;  // ∂f_n/∂p
+  if (penetration < smoothing) {
+    normal_slope = normal_stiffness * penetration / smoothing;
+    contact.normal_force = 0.5 * normal_slope * penetration;
+  } else {
+    contact.normal_force = normal_stiffness * (penetration - 0.5 * smoothing);
+  }
   const double trial =
       previous_tangential_force.dot(tangent) - tangential_stiffness * slip_increment.dot(tangent);
   const double limit = friction * contact.normal_force;
-  contact.stiffness = normal_stiffness * normal * normal.transpose();
+  contact.stiffness = normal_slope * normal * normal.transpose();
   if (std::abs(trial) <= limit) {
     contact.tangential_force = trial;
     contact.stiffness += tangential_stiffness * tangent * tangent.transpose();
@@ -42,7 +53,7 @@ PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_in
     contact.slip = true;
     const double sign = trial > 0.0 ? 1.0 : -1.0;
     contact.tangential_force = sign * limit;
-    contact.stiffness += sign * friction * normal_stiffness * tangent * normal.transpose();
+    contact.stiffness += sign * friction * normal_slope * tangent * normal.transpose();
   }
   contact.tangential_vector = contact.tangential_force * tangent;
   contact.force = contact.normal_force * normal + contact.tangential_force * tangent;

@@ -5,13 +5,18 @@
 //
 // At a contact point q (a corner of a particle's GIMP domain) with gap g = signed distance to the
 // body's surface (< 0: inside) and outward normal n, the force on the soil is
-//   F = f_n n + f_t t,   f_n = k_n max(−g, 0),   t = (−n_y, n_x),
+//   F = f_n n + f_t t,   t = (−n_y, n_x),
+// with the normal force of the penetration p = max(−g, 0), smoothed over a depth δ so that it is
+// continuously differentiable where a point enters contact (a kink there makes the Newton
+// iterations of the quasi-static solver chatter, docs/quasi-static.md):
+//   f_n = k_n p² / (2δ)  for p < δ,   f_n = k_n (p − δ/2)  beyond   (δ = 0: f_n = k_n p),
 // with the tangential force from a return map on the trial force (Wriggers 2006, Computational
 // Contact Mechanics, §5.2, the penalty regularisation of Coulomb's law):
 //   f_t^trial = f_t,n − k_t (Δs · t),   Δs the slip of the point relative to the body over the
 //   step, stick: |f_t^trial| <= μ f_n  ->  f_t = f_t^trial;   slip: f_t = μ f_n sign(f_t^trial).
 // Its stiffness K = −∂F/∂Δs (for the Newton matrix; the curvature of the surface is neglected):
-//   stick: k_n n n^T + k_t t t^T;   slip: k_n n n^T + μ k_n sign(f_t^trial) t n^T (not symmetric).
+//   stick: k n n^T + k_t t t^T;   slip: k n n^T + μ k sign(f_t^trial) t n^T (not symmetric),
+// k = ∂f_n/∂p (k_n p/δ within the smoothing depth, k_n beyond).
 #include <vector>
 
 #include "pilempm/constitutive/constitutive_model.hpp"
@@ -27,6 +32,9 @@ struct ContactSettings {
   double penalty_factor = 2.0;
   /// k_t = tangential_ratio · k_n.
   double tangential_ratio = 0.1;
+  /// The smoothing depth δ of the normal force, as a fraction of the particle size d_p (0: the
+  /// kinked law f_n = k_n p).
+  double smoothing = 0.0;
   /// Points closer than this fraction of the particle size outside the surface carry the stick
   /// stiffness in the first Newton matrix of an increment, without force (see penalty_contact).
   double stiffness_margin = 0.01;
@@ -62,7 +70,8 @@ struct PointContact {
 /// path of the iterations, not their solution.
 PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
                              const Vec2& previous_tangential_force, double normal_stiffness,
-                             double tangential_stiffness, double friction, double margin = 0.0);
+                             double tangential_stiffness, double friction, double margin = 0.0,
+                             double smoothing = 0.0);
 
 /// The penalty modulus M_c of each material (in k_n = β M_c A_q / d_p): the largest wave modulus
 /// of its particles at their current state (0 for a material without particles). Both analyses

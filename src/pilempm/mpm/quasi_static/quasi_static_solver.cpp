@@ -113,6 +113,19 @@ void QuasiStaticSolver::set_material(int index, ModelPtr model) {
   materials_[std::size_t(index)] = std::move(model);
 }
 
+std::vector<double> QuasiStaticSolver::prediction(const StepSetup& setup,
+                                                  const std::vector<Vec2>& body_step) const {
+  double body_motion = 0.0;
+  for (const Vec2& d : body_step) body_motion = std::max(body_motion, d.norm());
+  if (!settings_.predictor || !(body_motion > 0.0) || !(last_body_step_ > 0.0)) return {};
+  const double scale = body_motion / last_body_step_;
+  std::vector<double> predicted(std::size_t(setup.unknowns), 0.0);
+  for (std::size_t c = 0; c < setup.dof.size(); ++c)
+    if (setup.dof[c] >= 0)
+      predicted[std::size_t(setup.dof[c])] = scale * node_displacement_[c / 2][int(c % 2)];
+  return predicted;
+}
+
 bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& load,
                                             SubIncrementRecord& record, LoadStepResult& result) {
   // The sub-increment's targets, linear in the fraction of the step from the current state.
@@ -135,14 +148,8 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   }
   // Predictor: the last increment's nodal displacements scaled to this one's body motion, kept
   // when it lowers the residual (a pile pushed on deforms the soil much as in the last step).
-  double body_motion = 0.0;
-  for (const Vec2& d : body_step) body_motion = std::max(body_motion, d.norm());
-  if (settings_.predictor && body_motion > 0.0 && last_body_step_ > 0.0) {
-    const double scale = body_motion / last_body_step_;
-    std::vector<double> predicted(std::size_t(setup.unknowns), 0.0);
-    for (std::size_t c = 0; c < setup.dof.size(); ++c)
-      if (setup.dof[c] >= 0)
-        predicted[std::size_t(setup.dof[c])] = scale * node_displacement_[c / 2][int(c % 2)];
+  std::vector<double> predicted = prediction(setup, body_step);
+  if (!predicted.empty()) {
     Trial predicted_trial;
     if (evaluate(setup, predicted, gravity, traction, body_step, true, predicted_trial, result) &&
         predicted_trial.residual.norm() < trial.residual.norm()) {

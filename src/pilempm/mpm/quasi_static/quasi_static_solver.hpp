@@ -157,6 +157,18 @@ struct LoadStepResult {
 /// and per surface part; a pile pushed into soil gets total.y() > 0.
 using BodyForce = RigidBodyForce;
 
+/// The Newton matrix against the residual's derivative (QuasiStaticSolver::check_tangent): along
+/// a direction v, K v against the central difference (R(u + h v) − R(u − h v)) / (2 h), in total
+/// and by part (the material's internal force; the contact), each as ||difference|| / ||K v||.
+struct TangentCheck {
+  double total = 0.0, material = 0.0, contact = 0.0;
+  double matrix_norm = 0.0;  ///< ||K v|| [N/m]
+  /// The unknown with the largest |K v − difference|: its node's position [m] and component.
+  Vec2 worst_node = Vec2::Zero();
+  int worst_component = 0;
+  int unknowns = 0;
+};
+
 class QuasiStaticSolver final : public MpmState {
  public:
   /// Throws InvalidValue for bad settings, a missing material, a particle outside the grid or
@@ -213,6 +225,12 @@ class QuasiStaticSolver final : public MpmState {
   /// Restores a checkpoint's run state (after the particles and the bodies). Throws InvalidValue
   /// when the arrays do not fit the particles, the grid or the bodies.
   void restore_run_state(const SolverRunState& state) override;
+  /// Checks the Newton matrix (for tests and diagnostics; the state does not change): at the
+  /// iterate a sub-increment of `load` of the given fraction starts from (the predictor where it
+  /// is taken, else zero), along a fixed pseudo-random direction whose largest nodal component
+  /// is `relative_step` cells.
+  TangentCheck check_tangent(const LoadStep& load, double fraction = 1.0,
+                             double relative_step = 1.0e-6) const;
   /// Nodal displacement of the last accepted step (x, y per node; zero where inactive) [m].
   const std::vector<Vec2>& last_node_displacement() const { return node_displacement_; }
   /// The Newton matrix of the last iteration (free components of the active nodes), for
@@ -227,6 +245,9 @@ class QuasiStaticSolver final : public MpmState {
   bool solve_sub_increment(double fraction, const LoadStep& load, SubIncrementRecord& record,
                            LoadStepResult& result);
   void build_setup(StepSetup& setup) const;
+  // The predictor of a sub-increment: the last increment's nodal displacements scaled to this
+  // one's body motion (empty where there is none).
+  std::vector<double> prediction(const StepSetup& setup, const std::vector<Vec2>& body_step) const;
   // Evaluates the iterate: stresses, internal/external/contact forces, residual; with
   // `tangent`, the Newton matrix too. Returns false when a model update fails.
   bool evaluate(const StepSetup& setup, const std::vector<double>& du, double gravity,

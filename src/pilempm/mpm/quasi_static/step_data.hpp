@@ -105,6 +105,9 @@ struct QuasiStaticSolver::Trial {
   std::vector<double> corner_gap;                   // per particle corner
   Eigen::VectorXd residual;                         // per unknown
   std::vector<Eigen::Triplet<double>> triplets;
+  // Where the contact's and the ghost springs' entries begin in `triplets` (the material's come
+  // first), for the check of the matrix by parts (check_tangent).
+  std::size_t contact_triplets = 0, ghost_triplets = 0;
   double reference_force = 0.0;
   int floor_particles = 0;  // stress updates that ended on the model's mean stress floor
 };

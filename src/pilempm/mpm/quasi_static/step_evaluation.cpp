@@ -322,6 +322,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   }
 
   // Contact at the corners of the particles' domains against the bodies' exact surfaces.
+  trial.contact_triplets = trial.triplets.size();
   trial.corner.assign(std::size_t(count) * kCorners, PointContact{});
   trial.corner_body.assign(std::size_t(count) * kCorners, -1);
   trial.corner_part.assign(std::size_t(count) * kCorners, 0);
@@ -362,7 +363,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         const PointContact point =
             penalty_contact(hit.distance, hit.normal, moved - body_move, previous, normal_stiffness,
                             settings_.contact.tangential_ratio * normal_stiffness,
-                            bodies_[body].friction(), margin);
+                            bodies_[body].friction(), margin, settings_.contact.smoothing * size);
         if (point.active) {
           trial.corner[index] = point;
           trial.corner_body[index] = static_cast<int>(body);
@@ -391,6 +392,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   }
 
   // Ghost springs between weakly supported nodes and their neighbours (internal forces).
+  trial.ghost_triplets = trial.triplets.size();
   for (const StepSetup::GhostSpring& ghost : setup.ghosts) {
     const Vec2 stretch = trial.node_displacement[std::size_t(ghost.node_a)] -
                          trial.node_displacement[std::size_t(ghost.node_b)];

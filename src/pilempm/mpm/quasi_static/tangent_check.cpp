@@ -1,0 +1,106 @@
+// The check of the quasi-static solver's Newton matrix against the derivative of its residual
+// (QuasiStaticSolver::check_tangent): central differences of the residual along a direction, in
+// total and by part, for tests and for finding what slows the Newton iterations down.
+#include <algorithm>
+#include <cmath>
+
+#include "pilempm/core/error.hpp"
+#include "pilempm/mpm/quasi_static/step_data.hpp"
+
+namespace pilempm::mpm::quasi_static {
+
+using namespace detail;
+
+namespace {
+
+// K v for the triplets [begin, end).
+Eigen::VectorXd product(const std::vector<Eigen::Triplet<double>>& triplets, std::size_t begin,
+                        std::size_t end, const Eigen::VectorXd& v) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(v.size());
+  for (std::size_t k = begin; k < end; ++k)
+    out[triplets[k].row()] += triplets[k].value() * v[triplets[k].col()];
+  return out;
+}
+
+// The node-component array `a` at the unknowns.
+Eigen::VectorXd at_unknowns(const std::vector<int>& dof, const std::vector<double>& a,
+                            int unknowns) {
+  Eigen::VectorXd out = Eigen::VectorXd::Zero(unknowns);
+  for (std::size_t c = 0; c < dof.size(); ++c)
+    if (dof[c] >= 0) out[dof[c]] = a[c];
+  return out;
+}
+
+double ratio(double a, double b) {
+  return b > 0.0 ? a / b : (a > 0.0 ? HUGE_VAL : 0.0);
+}
+
+}  // namespace
+
+TangentCheck QuasiStaticSolver::check_tangent(const LoadStep& load, double fraction,
+                                              double relative_step) const {
+  const double gravity =
+      gravity_multiplier_ + fraction * (load.gravity_multiplier - gravity_multiplier_);
+  const double traction =
+      traction_multiplier_ + fraction * (load.traction_multiplier - traction_multiplier_);
+  std::vector<Vec2> body_step(bodies_.size(), Vec2::Zero());
+  for (std::size_t b = 0; b < bodies_.size() && b < load.body_displacement.size(); ++b)
+    body_step[b] = fraction * load.body_displacement[b];
+  StepSetup setup;
+  build_setup(setup);
+  TangentCheck check;
+  check.unknowns = setup.unknowns;
+  if (setup.unknowns == 0) return check;
+  std::vector<double> du = prediction(setup, body_step);
+  if (du.empty()) du.assign(std::size_t(setup.unknowns), 0.0);
+  LoadStepResult ignored;
+  Trial at, plus, minus;
+  if (!evaluate(setup, du, gravity, traction, body_step, true, at, ignored))
+    throw Error("quasi-static: check_tangent: a stress update failed at the iterate");
+  // A fixed pseudo-random direction (a linear congruential sequence), entries in [-1, 1].
+  Eigen::VectorXd v(setup.unknowns);
+  unsigned long long seed = 12345;
+  for (int d = 0; d < setup.unknowns; ++d) {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    v[d] = double(seed >> 11) / double(1ULL << 53) * 2.0 - 1.0;
+  }
+  const double h = relative_step * grid_.min_spacing();
+  std::vector<double> up = du, down = du;
+  for (int d = 0; d < setup.unknowns; ++d) {
+    up[std::size_t(d)] += h * v[d];
+    down[std::size_t(d)] -= h * v[d];
+  }
+  if (!evaluate(setup, up, gravity, traction, body_step, false, plus, ignored) ||
+      !evaluate(setup, down, gravity, traction, body_step, false, minus, ignored))
+    throw Error("quasi-static: check_tangent: a stress update failed near the iterate");
+  const Eigen::VectorXd difference = (plus.residual - minus.residual) / (2.0 * h);
+  const auto part_difference = [&](const std::vector<double> Trial::*array) {
+    return Eigen::VectorXd((at_unknowns(setup.dof, plus.*array, setup.unknowns) -
+                            at_unknowns(setup.dof, minus.*array, setup.unknowns)) /
+                           (2.0 * h));
+  };
+  const Eigen::VectorXd kv = product(at.triplets, 0, at.triplets.size(), v);
+  const Eigen::VectorXd kv_material = product(at.triplets, 0, at.contact_triplets, v);
+  const Eigen::VectorXd kv_contact =
+      product(at.triplets, at.contact_triplets, at.ghost_triplets, v);
+  const Eigen::VectorXd ghost = product(at.triplets, at.ghost_triplets, at.triplets.size(), v);
+  check.matrix_norm = kv.norm();
+  check.total = ratio((kv - difference).norm(), kv.norm());
+  // The internal force holds the ghost springs too (linear, their matrix exact).
+  check.material = ratio((kv_material + ghost - part_difference(&Trial::internal)).norm(),
+                         (kv_material + ghost).norm());
+  // R = f_int − f_ext − f_contact: the contact's matrix is −∂f_contact/∂u.
+  check.contact = ratio((kv_contact + part_difference(&Trial::contact)).norm(), kv_contact.norm());
+  Eigen::Index worst = 0;
+  (kv - difference).cwiseAbs().maxCoeff(&worst);
+  for (std::size_t c = 0; c < setup.dof.size(); ++c)
+    if (setup.dof[c] == int(worst)) {
+      const int n = int(c / 2);
+      check.worst_node =
+          Vec2(grid_.x_axis().node(n % grid_.nx()), grid_.y_axis().node(n / grid_.nx()));
+      check.worst_component = int(c % 2);
+    }
+  return check;
+}
+
+}  // namespace pilempm::mpm::quasi_static
