@@ -83,7 +83,8 @@ const std::vector<std::string> kExplicitOnlyKeys = {
     "mass_scaling", "courant_number", "fixed_time_step_s", "contact"};
 const std::vector<std::string> kQuasiStaticOnlyKeys = {
     "displacement_step_m", "force_tolerance",        "max_iterations",         "max_cuts",
-    "linear_solver",       "contact_penalty_factor", "newton_step_limit_cells"};
+    "linear_solver",       "contact_penalty_factor", "newton_step_limit_cells",
+    "contact_vertex_radius_cells"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -137,6 +138,8 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
                                                NumberRange::closed(1e-3, 1e3));
   q.step_limit =
       solver->number_or("newton_step_limit_cells", q.step_limit, NumberRange::closed(0.0, 100.0));
+  q.contact.vertex_radius = solver->number_or("contact_vertex_radius_cells",
+                                              q.contact.vertex_radius, NumberRange::closed(0.0, 2.0));
   solver->check_no_unknown_keys();
 }
 

@@ -314,7 +314,9 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     BodyForce& f = forces[std::size_t(body)];
     f.total -= point.force;
     f.parts[std::size_t(trial.corner_part[c])] -= point.force;
-    max_penetration_ = std::max(max_penetration_, -trial.corner_gap[c]);
+    // Points on the axis (no area in axisymmetry) carry no force; they do not count.
+    if (point.normal_force > 0.0)
+      max_penetration_ = std::max(max_penetration_, -trial.corner_gap[c]);
     history.body = body;
     history.tangential_force = point.tangential_vector;
   }

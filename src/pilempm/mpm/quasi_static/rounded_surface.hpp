@@ -2,6 +2,7 @@
 // to the quasi-static solver).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <vector>
@@ -24,9 +25,10 @@ struct RoundedSurface {
   double radius = 0.0;
   bool axisymmetric = false;
 
+  // `rounding` is cut to what the body admits (below).
   RoundedSurface(const RigidBody& body, double rounding)
-      : inner(RigidBody::polygon(inner_vertices(body, rounding))),
-        radius(rounding),
+      : inner(RigidBody::polygon(inner_vertices(body, admissible(body, rounding)))),
+        radius(admissible(body, rounding)),
         axisymmetric(body.axisymmetric()) {
     const std::vector<Vec2>& v = body.vertices();
     for (std::size_t k = 0; k < v.size(); ++k) {
@@ -35,6 +37,25 @@ struct RoundedSurface {
       const Vec2 normal = Vec2(edge.y(), -edge.x()).normalized();
       part.push_back(body.query(v[k] + 0.5 * edge + 1.0e-9 * edge.norm() * normal).part);
     }
+  }
+
+  // The largest radius below `rounding` for which every edge of Q keeps 10 % or more of the
+  // length it would have at ρ = 0 along its own direction (a thin plate rounded by more than half
+  // its thickness would turn Q inside out): Q's edge k is e_k − ρ (m_(k+1) − m_k), m the mitre
+  // offsets of inner_vertices.
+  static double admissible(const RigidBody& body, double rounding) {
+    const std::vector<Vec2>& v = body.vertices();
+    const std::size_t count = v.size();
+    const std::vector<Vec2> unit = inner_vertices(body, 1.0);  // v − m
+    double radius = rounding;
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::size_t next = (k + 1) % count;
+      const Vec2 edge = v[next] - v[k];
+      const double length = edge.norm();
+      const double shrink = ((v[next] - unit[next]) - (v[k] - unit[k])).dot(edge / length);
+      if (shrink > 0.0) radius = std::min(radius, 0.9 * length / shrink);
+    }
+    return std::max(radius, 0.0);
   }
 
   // Vertex k joins edges k − 1 and k; moved inward along the mitre it lies ρ from both lines.
