@@ -206,15 +206,16 @@ TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
   const MpmCase smoothed = read_mpm_case_text(
       replaced(column_case(), "threads = 1",
                "threads = 1\nvolumetric_smoothing = true\nnewton_step_limit_cells = 0.1\n"
-               "contact_vertex_radius_cells = 0.25"),
+               "contact_vertex_radius_cells = 0.25\ncontact_smoothing = 0.05"),
       "smoothed.toml");
   EXPECT_TRUE(quasi_static_settings(smoothed).volumetric_averaging);
   EXPECT_EQ(smoothed.quasi_static.step_limit, 0.1);
   EXPECT_EQ(smoothed.quasi_static.contact.vertex_radius, 0.25);
+  EXPECT_EQ(smoothed.quasi_static.contact.smoothing, 0.05);
   EXPECT_EQ(read_mpm_case_text(column_case(), "plain.toml").quasi_static.contact.vertex_radius,
             0.5);
-  message = read_error(replaced(column_case(), "threads = 1",
-                                "threads = 1\ncontact_vertex_radius_cells = 3"));
+  message = read_error(
+      replaced(column_case(), "threads = 1", "threads = 1\ncontact_vertex_radius_cells = 3"));
   EXPECT_NE(message.find("solver.contact_vertex_radius_cells"), std::string::npos) << message;
   message = read_error(
       replaced(column_case(), "analysis = \"quasi-static\"", "newton_step_limit_cells = 0.1"));

@@ -82,9 +82,11 @@ const std::vector<std::string> kExplicitOnlyKeys = {
     "scheme",       "flip_fraction",  "xpic_order",        "local_damping",
     "mass_scaling", "courant_number", "fixed_time_step_s", "contact"};
 const std::vector<std::string> kQuasiStaticOnlyKeys = {
-    "displacement_step_m", "force_tolerance",        "max_iterations",         "max_cuts",
-    "linear_solver",       "contact_penalty_factor", "newton_step_limit_cells",
-    "contact_vertex_radius_cells"};
+    "displacement_step_m",     "force_tolerance",
+    "max_iterations",          "max_cuts",
+    "linear_solver",           "contact_penalty_factor",
+    "newton_step_limit_cells", "contact_vertex_radius_cells",
+    "contact_smoothing"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -138,8 +140,10 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
                                                NumberRange::closed(1e-3, 1e3));
   q.step_limit =
       solver->number_or("newton_step_limit_cells", q.step_limit, NumberRange::closed(0.0, 100.0));
-  q.contact.vertex_radius = solver->number_or("contact_vertex_radius_cells",
-                                              q.contact.vertex_radius, NumberRange::closed(0.0, 2.0));
+  q.contact.vertex_radius = solver->number_or(
+      "contact_vertex_radius_cells", q.contact.vertex_radius, NumberRange::closed(0.0, 2.0));
+  q.contact.smoothing =
+      solver->number_or("contact_smoothing", q.contact.smoothing, NumberRange::closed(0.0, 1.0));
   solver->check_no_unknown_keys();
 }
 

@@ -241,6 +241,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.number("contact_penalty_factor", q.contact.penalty_factor);
   t.number("newton_step_limit_cells", q.step_limit);
   t.number("contact_vertex_radius_cells", q.contact.vertex_radius);
+  t.number("contact_smoothing", q.contact.smoothing);
 }
 
 void write_integrator(TomlText& t, const IntegratorSettings& s) {
