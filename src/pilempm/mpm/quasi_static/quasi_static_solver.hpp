@@ -50,12 +50,10 @@ enum class TangentKind {
                  ///< Newton, linear convergence)
 };
 
-/// ContactSettings with vertex_radius = 0.5 and smoothing = 0.05 (the quasi-static analysis's
-/// default).
+/// ContactSettings with vertex_radius = 0.5 (the quasi-static analysis's default).
 inline ContactSettings rounded_contact() {
   ContactSettings contact;
   contact.vertex_radius = 0.5;
-  contact.smoothing = 0.05;
   return contact;
 }
 
@@ -114,9 +112,8 @@ struct Settings {
   bool volumetric_averaging = false;
   /// The contact law; the bodies' vertices rounded by half a cell (ContactSettings::vertex_radius:
   /// a penetrated point passing the pile's shoulder then turns its force over an arc instead of
-  /// at once; on the hypoplastic pile push this took the push from 0.83 D to 3 D) and the normal
-  /// force smoothed over 0.05 particle sizes (with it the centrifuge quick case runs every phase;
-  /// without, its installation stopped at 1.6 D; docs/quasi-static.md).
+  /// at once; on the hypoplastic pile push this took the push from 0.83 D to 3 D,
+  /// docs/quasi-static.md).
   ContactSettings contact = rounded_contact();
   int threads = 0;  ///< OpenMP threads for the particle loops; 0: omp_get_max_threads()
 
