@@ -113,6 +113,16 @@ void QuasiStaticSolver::set_material(int index, ModelPtr model) {
   materials_[std::size_t(index)] = std::move(model);
 }
 
+QuasiStaticSolver::Targets QuasiStaticSolver::targets(double fraction, const LoadStep& load) const {
+  Targets t;
+  t.gravity = gravity_multiplier_ + fraction * (load.gravity_multiplier - gravity_multiplier_);
+  t.traction = traction_multiplier_ + fraction * (load.traction_multiplier - traction_multiplier_);
+  t.body_step.assign(bodies_.size(), Vec2::Zero());
+  for (std::size_t b = 0; b < bodies_.size() && b < load.body_displacement.size(); ++b)
+    t.body_step[b] = fraction * load.body_displacement[b];
+  return t;
+}
+
 std::vector<double> QuasiStaticSolver::prediction(const StepSetup& setup,
                                                   const std::vector<Vec2>& body_step) const {
   double body_motion = 0.0;
@@ -129,13 +139,9 @@ std::vector<double> QuasiStaticSolver::prediction(const StepSetup& setup,
 bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& load,
                                             SubIncrementRecord& record, LoadStepResult& result) {
   // The sub-increment's targets, linear in the fraction of the step from the current state.
-  const double gravity =
-      gravity_multiplier_ + fraction * (load.gravity_multiplier - gravity_multiplier_);
-  const double traction =
-      traction_multiplier_ + fraction * (load.traction_multiplier - traction_multiplier_);
-  std::vector<Vec2> body_step(bodies_.size(), Vec2::Zero());
-  for (std::size_t b = 0; b < bodies_.size() && b < load.body_displacement.size(); ++b)
-    body_step[b] = fraction * load.body_displacement[b];
+  const Targets target = targets(fraction, load);
+  const double gravity = target.gravity, traction = target.traction;
+  const std::vector<Vec2>& body_step = target.body_step;
 
   StepSetup setup;
   build_setup(setup);

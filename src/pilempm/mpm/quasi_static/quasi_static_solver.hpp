@@ -256,6 +256,12 @@ class QuasiStaticSolver final : public MpmState {
 
   bool solve_sub_increment(double fraction, const LoadStep& load, SubIncrementRecord& record,
                            LoadStepResult& result);
+  // A sub-increment's targets, linear in its fraction of the step from the current state.
+  struct Targets {
+    double gravity = 0.0, traction = 0.0;
+    std::vector<Vec2> body_step;  // per body
+  };
+  Targets targets(double fraction, const LoadStep& load) const;
   void build_setup(StepSetup& setup) const;
   // The predictor of a sub-increment: the last increment's nodal displacements scaled to this
   // one's body motion (empty where there is none).

@@ -20,15 +20,15 @@ namespace pilempm::mpm::quasi_static::detail {
 // penetrated contact point passing a vertex changes its force's direction at once and the Newton
 // iterations chatter (docs/quasi-static.md).
 struct RoundedSurface {
+  double radius = 0.0;    // ρ (declared before Q, which is built from it)
   RigidBody inner;        // Q, a polygon (for a pile: its mirrored section, queried at |r|)
   std::vector<int> part;  // the body's surface part of Q's edge k
-  double radius = 0.0;
   bool axisymmetric = false;
 
   // `rounding` is cut to what the body admits (below).
   RoundedSurface(const RigidBody& body, double rounding)
-      : inner(RigidBody::polygon(inner_vertices(body, admissible(body, rounding)))),
-        radius(admissible(body, rounding)),
+      : radius(admissible(body, rounding)),
+        inner(RigidBody::polygon(inner_vertices(body, radius))),
         axisymmetric(body.axisymmetric()) {
     const std::vector<Vec2>& v = body.vertices();
     for (std::size_t k = 0; k < v.size(); ++k) {

@@ -39,13 +39,9 @@ double ratio(double a, double b) {
 
 TangentCheck QuasiStaticSolver::check_tangent(const LoadStep& load, double fraction,
                                               double relative_step) const {
-  const double gravity =
-      gravity_multiplier_ + fraction * (load.gravity_multiplier - gravity_multiplier_);
-  const double traction =
-      traction_multiplier_ + fraction * (load.traction_multiplier - traction_multiplier_);
-  std::vector<Vec2> body_step(bodies_.size(), Vec2::Zero());
-  for (std::size_t b = 0; b < bodies_.size() && b < load.body_displacement.size(); ++b)
-    body_step[b] = fraction * load.body_displacement[b];
+  const Targets target = targets(fraction, load);
+  const double gravity = target.gravity, traction = target.traction;
+  const std::vector<Vec2>& body_step = target.body_step;
   StepSetup setup;
   build_setup(setup);
   TangentCheck check;
