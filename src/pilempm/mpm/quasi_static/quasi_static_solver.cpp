@@ -147,8 +147,13 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   build_setup(setup);
   result.unknowns = setup.unknowns;
   std::vector<double> du(std::size_t(setup.unknowns), 0.0);
+  // The iterate's residual first; the Newton matrix (the models' tangents, the most costly part
+  // of an evaluation) only for the iterate that is kept, and only when it is needed.
   Trial trial;
-  if (!evaluate(setup, du, gravity, traction, body_step, true, trial, result)) {
+  auto with_matrix = [&](Trial& t) {
+    return t.has_matrix || evaluate(setup, du, gravity, traction, body_step, true, t, result);
+  };
+  if (!evaluate(setup, du, gravity, traction, body_step, false, trial, result)) {
     result.message = "a stress update failed at the start of the increment";
     return false;
   }
@@ -157,7 +162,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   std::vector<double> predicted = prediction(setup, body_step);
   if (!predicted.empty()) {
     Trial predicted_trial;
-    if (evaluate(setup, predicted, gravity, traction, body_step, true, predicted_trial, result) &&
+    if (evaluate(setup, predicted, gravity, traction, body_step, false, predicted_trial, result) &&
         predicted_trial.residual.norm() < trial.residual.norm()) {
       du.swap(predicted);
       trial = std::move(predicted_trial);
@@ -175,12 +180,16 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     return true;
   }
 
-  SparseMatrix matrix(setup.unknowns, setup.unknowns);
+  SparseMatrix matrix = setup.pattern;
   double first_energy = 0.0;
   for (int iteration = 1; iteration <= settings_.max_iterations; ++iteration) {
     ++result.iterations;
+    if (!with_matrix(trial)) {
+      result.message = "a stress update failed in the iterations";
+      return false;
+    }
     const auto factor_start = std::chrono::steady_clock::now();
-    matrix.setFromTriplets(trial.triplets.begin(), trial.triplets.end());
+    trial.fill(matrix);
     if (!linear_solver_.factorize(matrix, iteration == 1)) {
       result.seconds_factorisation += seconds_since(factor_start);
       result.message = "the Newton matrix is singular";
@@ -214,7 +223,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     for (int attempt = 0; attempt <= settings_.line_search_steps; ++attempt) {
       std::vector<double> candidate = du;
       for (int d = 0; d < setup.unknowns; ++d) candidate[std::size_t(d)] += length * step[d];
-      if (evaluate(setup, candidate, gravity, traction, body_step, true, next, result)) {
+      if (evaluate(setup, candidate, gravity, traction, body_step, false, next, result)) {
         const double norm = next.residual.norm();
         if (norm < best_norm) {
           best_norm = norm;

@@ -263,6 +263,8 @@ class QuasiStaticSolver final : public MpmState {
   };
   Targets targets(double fraction, const LoadStep& load) const;
   void build_setup(StepSetup& setup) const;
+  // The Newton matrix's fixed pattern and the scatter maps of a set-up (StepSetup::pattern).
+  void build_pattern(StepSetup& setup) const;
   // The predictor of a sub-increment: the last increment's nodal displacements scaled to this
   // one's body motion (empty where there is none).
   std::vector<double> prediction(const StepSetup& setup, const std::vector<Vec2>& body_step) const;

@@ -2,6 +2,7 @@
 // share and what evaluating one iterate yields, and the small helpers the solver's files use.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <vector>
@@ -89,6 +90,27 @@ struct QuasiStaticSolver::StepSetup {
   std::vector<CellMean> cells;
   std::vector<int> cell;                  // per particle
   std::vector<std::array<int, 16>> slot;  // per particle and stencil node
+  // The Newton matrix's pattern, fixed over the sub-increment's iterations (compressed, values
+  // zero): every pair of unknowns of a particle's B columns (its cell's nodes with volumetric
+  // averaging, else its own), which holds the contact's pairs too, and the ghost springs' pairs.
+  // A scatter block is a cell with volumetric averaging (its particles share their columns), else
+  // a particle; block b's map gives, for its local columns l = 2 j + component over its nodes j,
+  // the pattern entry of (row l_r, column l_c) at scatter[scatter_offset[b] + l_c * 2w + l_r]
+  // (w its nodes), or -1 where either component is not an unknown.
+  SparseMatrix pattern;
+  std::vector<int> block;                   // per particle
+  std::vector<std::size_t> scatter_offset;  // per block, and one past the last
+  std::vector<int> scatter;
+  std::vector<std::array<int, 4>> ghost_entry;  // per ghost spring: (a,a), (b,b), (a,b), (b,a)
+  // The nodes of block b and their number.
+  const int* block_nodes(int b, int& width) const {
+    if (cells.empty()) {
+      width = nodes[std::size_t(b)].count;
+      return nodes[std::size_t(b)].node;
+    }
+    width = cells[std::size_t(b)].count;
+    return cells[std::size_t(b)].node;
+  }
 };
 
 // The results of evaluating one iterate.
@@ -104,12 +126,25 @@ struct QuasiStaticSolver::Trial {
   std::vector<int> corner_body, corner_part;        // per particle corner
   std::vector<double> corner_gap;                   // per particle corner
   Eigen::VectorXd residual;                         // per unknown
-  std::vector<Eigen::Triplet<double>> triplets;
-  // Where the contact's and the ghost springs' entries begin in `triplets` (the material's come
-  // first), for the check of the matrix by parts (check_tangent).
-  std::size_t contact_triplets = 0, ghost_triplets = 0;
+  // The Newton matrix on StepSetup::pattern, by part (for the check by parts, check_tangent):
+  // the material's values per pattern entry, the contact's and the ghost springs' entries.
+  std::vector<double> material_values;
+  struct Entry {
+    int index, row, column;  // the pattern entry and its place
+    double value;
+  };
+  std::vector<Entry> contact_entries, ghost_entries;
+  bool has_matrix = false;
   double reference_force = 0.0;
   int floor_particles = 0;  // stress updates that ended on the model's mean stress floor
+
+  // The Newton matrix's values into `matrix`, a copy of the set-up's pattern.
+  void fill(SparseMatrix& matrix) const {
+    double* value = matrix.valuePtr();
+    std::copy(material_values.begin(), material_values.end(), value);
+    for (const Entry& e : contact_entries) value[e.index] += e.value;
+    for (const Entry& e : ghost_entries) value[e.index] += e.value;
+  }
 };
 
 }  // namespace pilempm::mpm::quasi_static

@@ -1,6 +1,6 @@
-// The quasi-static solver's per-iterate work: the set-up of a sub-increment (stencils, unknowns,
-// ghost springs, volumetric averaging) and the evaluation of an iterate (strains, stresses and
-// tangents, internal, external and contact forces, the residual and the Newton matrix).
+// The quasi-static solver's per-iterate work: the evaluation of an iterate (strains, stresses and
+// tangents, internal, external and contact forces, the residual and the Newton matrix on the
+// sub-increment's pattern, step_setup.cpp).
 #include <fmt/format.h>
 #include <omp.h>
 
@@ -16,125 +16,6 @@
 namespace pilempm::mpm::quasi_static {
 
 using namespace detail;
-
-void QuasiStaticSolver::build_setup(StepSetup& setup) const {
-  const Particles& p = particles_;
-  const std::size_t count = p.size();
-  const int nx = grid_.nx(), nodes = grid_.node_count();
-  const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
-  setup.nodes.resize(count);
-  std::vector<double> support(std::size_t(nodes), 0.0);
-  for (std::size_t i = 0; i < count; ++i) {
-    Stencil stencil;
-    compute_stencil(grid_, settings_.shape_function, p.position[i].x(), p.position[i].y(),
-                    p.half_size[i].x(), p.half_size[i].y(), stencil);
-    flatten(stencil, nx, setup.nodes[i]);
-    const ParticleNodes& pn = setup.nodes[i];
-    for (int k = 0; k < pn.count; ++k)
-      support[std::size_t(pn.node[k])] += pn.weight[k] * p.volume[i];
-  }
-  // Every node a particle reaches carries the unknowns of its free components; the weakly
-  // supported ones get ghost springs to their better supported neighbours.
-  std::vector<double> modulus(std::size_t(nodes), 0.0);
-  for (std::size_t i = 0; i < count; ++i) {
-    const double m = materials_[std::size_t(p.material[i])]->wave_modulus(p.state[i]);
-    const ParticleNodes& pn = setup.nodes[i];
-    for (int k = 0; k < pn.count; ++k)
-      if (pn.weight[k] > 0.0)
-        modulus[std::size_t(pn.node[k])] = std::max(modulus[std::size_t(pn.node[k])], m);
-  }
-  setup.active.assign(std::size_t(nodes), 0);
-  setup.dof.assign(2 * std::size_t(nodes), -1);
-  setup.unknowns = 0;
-  setup.ghosts.clear();
-  std::vector<double> weakness(std::size_t(nodes), 0.0);  // 1 - s_i / (threshold v_i), or 0
-  const auto& free_x = grid_.free_x();
-  const auto& free_y = grid_.free_y();
-  for (int j = 0; j < grid_.ny(); ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int n = grid_.node_index(i, j);
-      if (!(support[std::size_t(n)] > 0.0)) continue;
-      double x0, x1, y0, y1;
-      node_share(grid_.x_axis(), i, x0, x1);
-      node_share(grid_.y_axis(), j, y0, y1);
-      const double own = (y1 - y0) * (axisymmetric ? 0.5 * (x1 * x1 - x0 * x0) : (x1 - x0));
-      const double limit = settings_.support_threshold * own;
-      if (support[std::size_t(n)] < limit)
-        weakness[std::size_t(n)] = 1.0 - support[std::size_t(n)] / limit;
-      setup.active[std::size_t(n)] = 1;
-      if (free_x[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n)] = setup.unknowns++;
-      if (free_y[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n) + 1] = setup.unknowns++;
-    }
-  if (settings_.ghost_stiffness > 0.0)
-    for (int j = 0; j < grid_.ny(); ++j)
-      for (int i = 0; i < nx; ++i) {
-        const int n = grid_.node_index(i, j);
-        if (!(weakness[std::size_t(n)] > 0.0)) continue;
-        const double scale =
-            axisymmetric ? std::max(grid_.x_axis().node(i), 0.5 * grid_.x_axis().spacing(0)) : 1.0;
-        const double k =
-            settings_.ghost_stiffness * modulus[std::size_t(n)] * weakness[std::size_t(n)] * scale;
-        const int neighbours[4][2] = {{i - 1, j}, {i + 1, j}, {i, j - 1}, {i, j + 1}};
-        for (const auto& ij : neighbours) {
-          if (ij[0] < 0 || ij[0] >= nx || ij[1] < 0 || ij[1] >= grid_.ny()) continue;
-          const int m = grid_.node_index(ij[0], ij[1]);
-          if (!setup.active[std::size_t(m)] || weakness[std::size_t(m)] >= weakness[std::size_t(n)])
-            continue;
-          setup.ghosts.push_back({n, m, k});
-        }
-      }
-  setup.cells.clear();
-  setup.cell.assign(count, -1);
-  setup.slot.assign(settings_.volumetric_averaging ? count : 0, {});
-  if (settings_.volumetric_averaging) {
-    const int cells_x = grid_.x_axis().cell_count();
-    std::vector<int> index(std::size_t(cells_x * grid_.y_axis().cell_count()), -1);
-    std::vector<double> cell_volume;
-    for (std::size_t i = 0; i < count; ++i) {
-      const int c = grid_.y_axis().cell_of(p.position[i].y()) * cells_x +
-                    grid_.x_axis().cell_of(p.position[i].x());
-      if (index[std::size_t(c)] < 0) {
-        index[std::size_t(c)] = static_cast<int>(setup.cells.size());
-        setup.cells.emplace_back();
-        cell_volume.push_back(0.0);
-      }
-      const int k_cell = index[std::size_t(c)];
-      setup.cell[i] = k_cell;
-      StepSetup::CellMean& mean = setup.cells[std::size_t(k_cell)];
-      cell_volume[std::size_t(k_cell)] += p.volume[i];
-      const ParticleNodes& pn = setup.nodes[i];
-      for (int k = 0; k < pn.count; ++k) {
-        int j = 0;
-        while (j < mean.count && mean.node[j] != pn.node[k]) ++j;
-        if (j == mean.count) {
-          if (mean.count == kMaxCellNodes)
-            throw Error(
-                fmt::format("quasi-static: the particles of a cell reach more than {} "
-                            "nodes (particle {})",
-                            kMaxCellNodes, i));
-          mean.node[j] = pn.node[k];
-          mean.row[j] = Vec2::Zero();
-          ++mean.count;
-        }
-        setup.slot[i][std::size_t(k)] = j;
-        const double hoop = axisymmetric ? pn.weight[k] / p.position[i].x() : 0.0;
-        mean.row[j] += p.volume[i] * Vec2(pn.gradient[k].x() + hoop, pn.gradient[k].y());
-      }
-    }
-    for (std::size_t c = 0; c < setup.cells.size(); ++c)
-      for (int j = 0; j < setup.cells[c].count; ++j) setup.cells[c].row[j] /= cell_volume[c];
-  }
-  setup.surfaces.clear();
-  for (const RigidBody& body : bodies_)
-    setup.surfaces.emplace_back(body, settings_.contact.vertex_radius * grid_.min_spacing());
-  setup.near_body.assign(count, 0);
-  if (!bodies_.empty())
-    for (std::size_t i = 0; i < count; ++i) {
-      const double reach = p.half_size[i].norm() + 2.0 * grid_.min_spacing();
-      for (const RigidBody& body : bodies_)
-        if (body.signed_distance(p.position[i]) < reach) setup.near_body[i] = 1;
-    }
-}
 
 bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<double>& du,
                                  double gravity, double traction,
@@ -254,75 +135,116 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.floor_particles = floor_particles;
   if (failed) return false;
 
-  // Assembly: internal and external forces, the material stiffness.
+  // Assembly: internal and external forces, the material stiffness, particle by particle into
+  // per-thread arrays (the first thread's are the trial's own), summed after.
   const auto assembly_start = std::chrono::steady_clock::now();
-  trial.internal.assign(2 * std::size_t(nodes), 0.0);
-  trial.external.assign(2 * std::size_t(nodes), 0.0);
-  trial.contact.assign(2 * std::size_t(nodes), 0.0);
-  if (tangent) trial.triplets.clear();
+  const std::size_t components = 2 * std::size_t(nodes);
+  const std::size_t entries = tangent ? std::size_t(setup.pattern.nonZeros()) : 0;
+  trial.internal.assign(components, 0.0);
+  trial.external.assign(components, 0.0);
+  trial.contact.assign(components, 0.0);
+  trial.material_values.assign(entries, 0.0);
+  trial.contact_entries.clear();
+  trial.ghost_entries.clear();
+  trial.has_matrix = tangent;
   const double body_force = -gravity * settings_.gravity;
-  // B (4 rows, 2 columns per node) over the particle's nodes, or with volumetric averaging
-  // B̄ = B + m (b̄ − b_p)^T / n over the nodes of its cell (m: ones in the normal rows, b_p the
-  // particle's volumetric row, b̄ the cell's mean, n = 2 in plane strain, 3 in axisymmetry).
-  Eigen::Matrix<double, 4, 2 * kMaxCellNodes> b;
-  for (long i = 0; i < count; ++i) {
-    const ParticleNodes& pn = setup.nodes[std::size_t(i)];
-    const double volume = p.volume[std::size_t(i)];
-    const Vec6& s = trial.state[std::size_t(i)].stress;
-    const double radius = p.position[std::size_t(i)].x();
-    const Vec2 load = traction * p.external_force[std::size_t(i)] +
-                      Vec2(0.0, p.mass[std::size_t(i)] * body_force);
-    const StepSetup::CellMean* mean =
-        averaging ? &setup.cells[std::size_t(setup.cell[std::size_t(i)])] : nullptr;
-    const int width = mean != nullptr ? mean->count : pn.count;
-    const int* column_node = mean != nullptr ? mean->node : pn.node;
-    b.leftCols(2 * width).setZero();
-    for (int k = 0; k < pn.count; ++k) {
-      const int j = mean != nullptr ? setup.slot[std::size_t(i)][std::size_t(k)] : k;
-      const Vec2& g = pn.gradient[k];
-      b(0, 2 * j) = g.x();
-      b(1, 2 * j + 1) = g.y();
-      if (axisymmetric) b(2, 2 * j) = pn.weight[k] / radius;
-      b(3, 2 * j) = g.y() / kSqrt2;
-      b(3, 2 * j + 1) = g.x() / kSqrt2;
+  std::vector<std::vector<double>> extra_internal, extra_external, extra_values;
+#pragma omp parallel num_threads(threads_)
+  {
+    const int thread = omp_get_thread_num();
+#pragma omp single
+    {
+      const std::size_t extra = std::size_t(std::max(omp_get_num_threads() - 1, 0));
+      extra_internal.resize(extra);
+      extra_external.resize(extra);
+      extra_values.resize(extra);
     }
-    if (mean != nullptr)
-      for (int j = 0; j < width; ++j)
-        for (int c = 0; c < 2; ++c) {
-          const double own = b(0, 2 * j + c) + b(1, 2 * j + c) + b(2, 2 * j + c);
-          const double correction = (mean->row[j][c] - own) / normal_components;
-          b(0, 2 * j + c) += correction;
-          b(1, 2 * j + c) += correction;
-          if (axisymmetric) b(2, 2 * j + c) += correction;
-        }
-    const Vec4 stress4(s[k11], s[k22], s[k33], s[k12]);
-    for (int j = 0; j < width; ++j) {
-      const std::size_t n = std::size_t(column_node[j]);
-      trial.internal[2 * n] += volume * b.col(2 * j).dot(stress4);
-      trial.internal[2 * n + 1] += volume * b.col(2 * j + 1).dot(stress4);
+    if (thread > 0) {
+      extra_internal[std::size_t(thread - 1)].assign(components, 0.0);
+      extra_external[std::size_t(thread - 1)].assign(components, 0.0);
+      extra_values[std::size_t(thread - 1)].assign(entries, 0.0);
     }
-    for (int k = 0; k < pn.count; ++k) {
-      const std::size_t n = std::size_t(pn.node[k]);
-      trial.external[2 * n] += pn.weight[k] * load.x();
-      trial.external[2 * n + 1] += pn.weight[k] * load.y();
-    }
-    if (!tangent) continue;
-    const int columns = 2 * width;
-    const Eigen::Matrix<double, 4, Eigen::Dynamic> db =
-        volume * trial.tangent[std::size_t(i)] * b.leftCols(columns);
-    for (int c = 0; c < columns; ++c) {
-      const int col = setup.dof[2 * std::size_t(column_node[c / 2]) + std::size_t(c % 2)];
-      if (col < 0) continue;
-      for (int r = 0; r < columns; ++r) {
-        const int row = setup.dof[2 * std::size_t(column_node[r / 2]) + std::size_t(r % 2)];
-        if (row < 0) continue;
-        trial.triplets.emplace_back(row, col, b.col(r).dot(db.col(c)));
+#pragma omp barrier
+    double* internal =
+        thread == 0 ? trial.internal.data() : extra_internal[std::size_t(thread - 1)].data();
+    double* external =
+        thread == 0 ? trial.external.data() : extra_external[std::size_t(thread - 1)].data();
+    double* values =
+        thread == 0 ? trial.material_values.data() : extra_values[std::size_t(thread - 1)].data();
+    // B (4 rows, 2 columns per node) over the particle's nodes, or with volumetric averaging
+    // B̄ = B + m (b̄ − b_p)^T / n over the nodes of its cell (m: ones in the normal rows, b_p the
+    // particle's volumetric row, b̄ the cell's mean, n = 2 in plane strain, 3 in axisymmetry).
+    Eigen::Matrix<double, 4, 2 * kMaxCellNodes> b;
+    Eigen::Matrix<double, 4, 2 * kMaxCellNodes> db;
+#pragma omp for schedule(static)
+    for (long i = 0; i < count; ++i) {
+      const ParticleNodes& pn = setup.nodes[std::size_t(i)];
+      const double volume = p.volume[std::size_t(i)];
+      const Vec6& s = trial.state[std::size_t(i)].stress;
+      const double radius = p.position[std::size_t(i)].x();
+      const Vec2 load = traction * p.external_force[std::size_t(i)] +
+                        Vec2(0.0, p.mass[std::size_t(i)] * body_force);
+      const StepSetup::CellMean* mean =
+          averaging ? &setup.cells[std::size_t(setup.cell[std::size_t(i)])] : nullptr;
+      int width = 0;
+      const int* column_node = setup.block_nodes(setup.block[std::size_t(i)], width);
+      b.leftCols(2 * width).setZero();
+      for (int k = 0; k < pn.count; ++k) {
+        const int j = mean != nullptr ? setup.slot[std::size_t(i)][std::size_t(k)] : k;
+        const Vec2& g = pn.gradient[k];
+        b(0, 2 * j) = g.x();
+        b(1, 2 * j + 1) = g.y();
+        if (axisymmetric) b(2, 2 * j) = pn.weight[k] / radius;
+        b(3, 2 * j) = g.y() / kSqrt2;
+        b(3, 2 * j + 1) = g.x() / kSqrt2;
       }
+      if (mean != nullptr)
+        for (int j = 0; j < width; ++j)
+          for (int c = 0; c < 2; ++c) {
+            const double own = b(0, 2 * j + c) + b(1, 2 * j + c) + b(2, 2 * j + c);
+            const double correction = (mean->row[j][c] - own) / normal_components;
+            b(0, 2 * j + c) += correction;
+            b(1, 2 * j + c) += correction;
+            if (axisymmetric) b(2, 2 * j + c) += correction;
+          }
+      const Vec4 stress4(s[k11], s[k22], s[k33], s[k12]);
+      for (int j = 0; j < width; ++j) {
+        const std::size_t n = std::size_t(column_node[j]);
+        internal[2 * n] += volume * b.col(2 * j).dot(stress4);
+        internal[2 * n + 1] += volume * b.col(2 * j + 1).dot(stress4);
+      }
+      for (int k = 0; k < pn.count; ++k) {
+        const std::size_t n = std::size_t(pn.node[k]);
+        external[2 * n] += pn.weight[k] * load.x();
+        external[2 * n + 1] += pn.weight[k] * load.y();
+      }
+      if (!tangent) continue;
+      const int columns = 2 * width;
+      db.leftCols(columns).noalias() = volume * trial.tangent[std::size_t(i)] * b.leftCols(columns);
+      const int* map =
+          setup.scatter.data() + setup.scatter_offset[std::size_t(setup.block[std::size_t(i)])];
+      for (int c = 0; c < columns; ++c)
+        for (int r = 0; r < columns; ++r) {
+          const int at = map[c * columns + r];
+          if (at >= 0) values[at] += b.col(r).dot(db.col(c));
+        }
+    }
+    // The other threads' shares, summed over index ranges in parallel.
+    if (!extra_internal.empty()) {
+#pragma omp for schedule(static)
+      for (long c = 0; c < long(components); ++c)
+        for (std::size_t t = 0; t < extra_internal.size(); ++t) {
+          trial.internal[std::size_t(c)] += extra_internal[t][std::size_t(c)];
+          trial.external[std::size_t(c)] += extra_external[t][std::size_t(c)];
+        }
+#pragma omp for schedule(static)
+      for (long e = 0; e < long(entries); ++e)
+        for (std::size_t t = 0; t < extra_values.size(); ++t)
+          trial.material_values[std::size_t(e)] += extra_values[t][std::size_t(e)];
     }
   }
 
   // Contact at the corners of the particles' domains against the bodies' exact surfaces.
-  trial.contact_triplets = trial.triplets.size();
   trial.corner.assign(std::size_t(count) * kCorners, PointContact{});
   trial.corner_body.assign(std::size_t(count) * kCorners, -1);
   trial.corner_part.assign(std::size_t(count) * kCorners, 0);
@@ -375,25 +297,35 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
             trial.contact[2 * n + 1] += coefficient[k] * point.force.y();
           }
         }
-        if (tangent)
+        if (tangent) {
+          int width = 0;
+          setup.block_nodes(setup.block[std::size_t(i)], width);
+          const int* map =
+              setup.scatter.data() + setup.scatter_offset[std::size_t(setup.block[std::size_t(i)])];
+          const auto local = [&](int k) {
+            return averaging ? setup.slot[std::size_t(i)][std::size_t(k)] : k;
+          };
           for (int a = 0; a < pn.count; ++a)
             for (int c = 0; c < pn.count; ++c) {
               const Mat2 block = coefficient[a] * coefficient[c] * point.stiffness;
               for (int r = 0; r < 2; ++r)
                 for (int s = 0; s < 2; ++s) {
-                  const int row = setup.dof[2 * std::size_t(pn.node[a]) + std::size_t(r)];
-                  const int col = setup.dof[2 * std::size_t(pn.node[c]) + std::size_t(s)];
-                  if (row >= 0 && col >= 0) trial.triplets.emplace_back(row, col, block(r, s));
+                  const int at = map[(2 * local(c) + s) * 2 * width + 2 * local(a) + r];
+                  if (at < 0) continue;
+                  trial.contact_entries.push_back(
+                      {at, setup.dof[2 * std::size_t(pn.node[a]) + std::size_t(r)],
+                       setup.dof[2 * std::size_t(pn.node[c]) + std::size_t(s)], block(r, s)});
                 }
             }
+        }
         break;  // one body per corner
       }
     }
   }
 
   // Ghost springs between weakly supported nodes and their neighbours (internal forces).
-  trial.ghost_triplets = trial.triplets.size();
-  for (const StepSetup::GhostSpring& ghost : setup.ghosts) {
+  for (std::size_t g = 0; g < setup.ghosts.size(); ++g) {
+    const StepSetup::GhostSpring& ghost = setup.ghosts[g];
     const Vec2 stretch = trial.node_displacement[std::size_t(ghost.node_a)] -
                          trial.node_displacement[std::size_t(ghost.node_b)];
     for (int c = 0; c < 2; ++c) {
@@ -403,11 +335,12 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       trial.internal[cb] -= ghost.stiffness * stretch[c];
       if (!tangent) continue;
       const int da = setup.dof[ca], db = setup.dof[cb];
-      if (da >= 0) trial.triplets.emplace_back(da, da, ghost.stiffness);
-      if (db >= 0) trial.triplets.emplace_back(db, db, ghost.stiffness);
+      const std::array<int, 4>& at = setup.ghost_entry[2 * g + std::size_t(c)];
+      if (da >= 0) trial.ghost_entries.push_back({at[0], da, da, ghost.stiffness});
+      if (db >= 0) trial.ghost_entries.push_back({at[1], db, db, ghost.stiffness});
       if (da >= 0 && db >= 0) {
-        trial.triplets.emplace_back(da, db, -ghost.stiffness);
-        trial.triplets.emplace_back(db, da, -ghost.stiffness);
+        trial.ghost_entries.push_back({at[2], da, db, -ghost.stiffness});
+        trial.ghost_entries.push_back({at[3], db, da, -ghost.stiffness});
       }
     }
   }

@@ -13,12 +13,11 @@ using namespace detail;
 
 namespace {
 
-// K v for the triplets [begin, end).
-Eigen::VectorXd product(const std::vector<Eigen::Triplet<double>>& triplets, std::size_t begin,
-                        std::size_t end, const Eigen::VectorXd& v) {
+// K v for the entries of one part.
+template <class Entries>
+Eigen::VectorXd product(const Entries& entries, const Eigen::VectorXd& v) {
   Eigen::VectorXd out = Eigen::VectorXd::Zero(v.size());
-  for (std::size_t k = begin; k < end; ++k)
-    out[triplets[k].row()] += triplets[k].value() * v[triplets[k].col()];
+  for (const auto& e : entries) out[e.row] += e.value * v[e.column];
   return out;
 }
 
@@ -75,11 +74,12 @@ TangentCheck QuasiStaticSolver::check_tangent(const LoadStep& load, double fract
                             at_unknowns(setup.dof, minus.*array, setup.unknowns)) /
                            (2.0 * h));
   };
-  const Eigen::VectorXd kv = product(at.triplets, 0, at.triplets.size(), v);
-  const Eigen::VectorXd kv_material = product(at.triplets, 0, at.contact_triplets, v);
-  const Eigen::VectorXd kv_contact =
-      product(at.triplets, at.contact_triplets, at.ghost_triplets, v);
-  const Eigen::VectorXd ghost = product(at.triplets, at.ghost_triplets, at.triplets.size(), v);
+  SparseMatrix material = setup.pattern;
+  std::copy(at.material_values.begin(), at.material_values.end(), material.valuePtr());
+  const Eigen::VectorXd kv_material = material * v;
+  const Eigen::VectorXd kv_contact = product(at.contact_entries, v);
+  const Eigen::VectorXd ghost = product(at.ghost_entries, v);
+  const Eigen::VectorXd kv = kv_material + kv_contact + ghost;
   check.matrix_norm = kv.norm();
   check.total = ratio((kv - difference).norm(), kv.norm());
   // The internal force holds the ghost springs too (linear, their matrix exact).
