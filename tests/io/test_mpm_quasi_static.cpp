@@ -214,6 +214,16 @@ TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
   EXPECT_EQ(smoothed.quasi_static.contact.smoothing, 0.05);
   EXPECT_EQ(read_mpm_case_text(column_case(), "plain.toml").quasi_static.contact.vertex_radius,
             0.5);
+  EXPECT_EQ(read_mpm_case_text(column_case(), "plain.toml").quasi_static.accept_tolerance, 1e-3);
+  EXPECT_EQ(read_mpm_case_text(
+                replaced(column_case(), "threads = 1", "threads = 1\naccept_tolerance = 0"),
+                "strict.toml")
+                .quasi_static.accept_tolerance,
+            0.0);
+  message =
+      read_error(replaced(column_case(), "threads = 1", "threads = 1\naccept_tolerance = 0.5"));
+  EXPECT_NE(message.find("solver.accept_tolerance"), std::string::npos) << message;
+  EXPECT_NE(message.find("0.1"), std::string::npos) << message;
   message = read_error(
       replaced(column_case(), "threads = 1", "threads = 1\ncontact_vertex_radius_cells = 3"));
   EXPECT_NE(message.find("solver.contact_vertex_radius_cells"), std::string::npos) << message;

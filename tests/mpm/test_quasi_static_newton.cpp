@@ -2,6 +2,7 @@
 // convergence of Newton's method (verification 6).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -256,6 +257,42 @@ TEST(QuasiStaticNewton, TheMatrixIsTheResidualsDerivativeOnThePilePush) {
   // Measured 2.6e-4 and 1.5e-6 (the contact's matrix leaves out the curvature of the rounded
   // vertices; 1.2e-8 with sharp ones).
   EXPECT_LT(check.contact, 1e-4);
+}
+
+// Settings::accept_tolerance: with 4 iterations allowed and no cuts, the Mohr-Coulomb pile's
+// push steps do not all converge to the force tolerance; without an accept tolerance a step then
+// fails, with one it is accepted at its residual (counted, the residual between the two
+// tolerances) and the push goes on from that state.
+TEST(QuasiStaticNewton, AStepAboveTheToleranceIsAcceptedBelowTheAcceptToleranceElseItFails) {
+  auto push = [](double accept_tolerance, int& accepted, double& largest) {
+    PileProblem problem;
+    problem.model = pile_mohr_coulomb_sand();
+    problem.settings.max_iterations = 4;
+    problem.settings.max_cuts = 0;
+    problem.settings.accept_tolerance = accept_tolerance;
+    QuasiStaticSolver solver = problem.build();
+    LoadStep load;
+    load.gravity_multiplier = problem.gravity_multiplier;
+    accepted = 0;
+    largest = 0.0;
+    for (int step = 0; step <= 8; ++step) {
+      load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
+      const LoadStepResult r = solver.solve_step(load);
+      if (!r.converged) return false;
+      accepted += r.accepted;
+      largest = std::max(largest, r.largest_accepted_residual);
+    }
+    return true;
+  };
+  int accepted = 0;
+  double largest = 0.0;
+  EXPECT_FALSE(push(0.0, accepted, largest));
+  ASSERT_TRUE(push(0.1, accepted, largest));
+  std::printf("4 iterations a step: %d steps accepted, largest ||R|| / F_ref %.2e\n", accepted,
+              largest);
+  EXPECT_GT(accepted, 0);
+  EXPECT_GT(largest, Settings{}.force_tolerance);
+  EXPECT_LE(largest, 0.1);
 }
 
 }  // namespace

@@ -233,6 +233,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.number("force_tolerance", q.force_tolerance);
   t.integer("max_iterations", q.max_iterations);
   t.integer("max_cuts", q.max_cuts);
+  t.number("accept_tolerance", q.accept_tolerance);
   // This build's default when it is the default (a file that names UMFPACK needs a build with it).
   if (q.linear_solver != mpm::quasi_static::Settings{}.linear_solver)
     t.text("linear_solver", q.linear_solver == mpm::quasi_static::LinearSolverKind::umfpack

@@ -481,6 +481,8 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
     summary.newton_iterations = quasi_static->total_iterations();
     summary.newton_cuts = quasi_static->total_cuts();
     summary.most_newton_iterations = quasi_static->most_iterations();
+    summary.newton_accepted = quasi_static->total_accepted();
+    summary.largest_accepted_residual = quasi_static->largest_accepted_residual();
     summary.max_penetration = quasi_static->max_penetration();
   }
   return summary;

@@ -73,6 +73,10 @@ struct MpmRunSummary {
   /// step, and the largest penetration of a contact point into a body [m].
   long newton_iterations = 0, newton_cuts = 0;
   int most_newton_iterations = 0;
+  /// Load steps (or parts) accepted after max_iterations (accept_tolerance), and the largest
+  /// ||R|| / F_ref of them.
+  long newton_accepted = 0;
+  double largest_accepted_residual = 0.0;
   double max_penetration = 0.0;
 };
 

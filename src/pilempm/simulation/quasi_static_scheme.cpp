@@ -90,6 +90,9 @@ void QuasiStaticScheme::solve_load_step(double duration) {
   last_step_ = solver_.solve_step(load);
   total_iterations_ += last_step_.iterations;
   total_cuts_ += last_step_.cuts;
+  total_accepted_ += last_step_.accepted;
+  largest_accepted_residual_ =
+      std::max(largest_accepted_residual_, last_step_.largest_accepted_residual);
   most_iterations_ = std::max(most_iterations_, last_step_.iterations);
   if (!last_step_.converged)
     throw Error(fmt::format(
@@ -139,8 +142,12 @@ Advance QuasiStaticScheme::advance(double target) {
 }
 
 std::string QuasiStaticScheme::step_report() const {
-  return fmt::format("{} it, {} cuts, penetration {:.2g} m", last_step_.iterations, last_step_.cuts,
-                     solver_.max_penetration());
+  return fmt::format(
+      "{} it, {} cuts{}, penetration {:.2g} m", last_step_.iterations, last_step_.cuts,
+      last_step_.accepted > 0
+          ? fmt::format(", accepted at ||R|| = {:.1e} F_ref", last_step_.largest_accepted_residual)
+          : std::string(),
+      solver_.max_penetration());
 }
 
 PhaseProgress QuasiStaticScheme::phase_progress() const {

@@ -48,6 +48,10 @@ class QuasiStaticScheme final : public Scheme {
   /// penetration of a contact point [m].
   long total_iterations() const { return total_iterations_; }
   long total_cuts() const { return total_cuts_; }
+  /// Load steps (or parts) accepted above the force tolerance (Settings::accept_tolerance) and
+  /// the largest ||R|| / F_ref of them.
+  long total_accepted() const { return total_accepted_; }
+  double largest_accepted_residual() const { return largest_accepted_residual_; }
   int most_iterations() const { return most_iterations_; }
   double max_penetration() const { return max_penetration_; }
 
@@ -63,7 +67,8 @@ class QuasiStaticScheme final : public Scheme {
   std::optional<MpmPhaseControl> control_;  // of the current phase
   std::size_t phase_ = 0;
   mpm::quasi_static::LoadStepResult last_step_;
-  long total_iterations_ = 0, total_cuts_ = 0;
+  long total_iterations_ = 0, total_cuts_ = 0, total_accepted_ = 0;
+  double largest_accepted_residual_ = 0.0;
   int most_iterations_ = 0;
   double max_penetration_ = 0.0;
 };

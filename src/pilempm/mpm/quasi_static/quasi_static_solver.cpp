@@ -33,6 +33,8 @@ void Settings::validate() const {
   if (!(step_limit >= 0.0) || !std::isfinite(step_limit))
     throw InvalidValue("step_limit", format_value(step_limit), ">= 0");
   if (max_cuts < 0) throw InvalidValue("max_cuts", std::to_string(max_cuts), ">= 0");
+  if (!(accept_tolerance >= 0.0 && accept_tolerance < 1.0))
+    throw InvalidValue("accept_tolerance", format_value(accept_tolerance), "[0, 1)");
   if (easy_iterations < 0)
     throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
   if (!(support_threshold >= 0.0 && support_threshold < 1.0))
@@ -269,7 +271,16 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       return false;
     }
   }
-  result.message = fmt::format("no convergence in {} iterations", settings_.max_iterations);
+  const double ratio = trial.residual.norm() / std::max(trial.reference_force, 1.0e-300);
+  if (ratio <= settings_.accept_tolerance) {
+    record.converged = record.accepted = true;
+    ++result.accepted;
+    result.largest_accepted_residual = std::max(result.largest_accepted_residual, ratio);
+    commit(setup, du, trial, gravity, traction, body_step);
+    return true;
+  }
+  result.message = fmt::format("no convergence in {} iterations (||R|| = {:.2g} F_ref)",
+                               settings_.max_iterations, ratio);
   return false;
 }
 

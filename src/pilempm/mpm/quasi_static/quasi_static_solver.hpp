@@ -67,6 +67,12 @@ struct Settings {
   /// ... and |δu_k · R_(k-1)| <= energy_tolerance * |δu_1 · R_0| (the energy norm).
   double energy_tolerance = 1.0e-10;
   int max_iterations = 25;
+  /// A sub-increment still above force_tolerance after max_iterations is accepted, not cut,
+  /// when ||R|| <= accept_tolerance * F_ref (the next increment starts from its residual, so the
+  /// imbalance is not lost but carried); 0: never (it is cut). Newton's method circles where
+  /// the plastic or contact state of a few points changes between iterates; cutting the step
+  /// then changes the path by more than this imbalance does (docs/quasi-static.md).
+  double accept_tolerance = 1.0e-3;
   /// Backtracking on ||R|| (halving the Newton step up to this many times, 0: none).
   int line_search_steps = 4;
   /// The largest nodal displacement of one Newton step, in cells (of the smallest spacing); a
@@ -150,6 +156,8 @@ struct SubIncrementRecord {
   double initial_residual = 0.0;  ///< ||R|| before the first iteration [N]
   double reference_force = 0.0;   ///< F_ref of the force criterion [N]
   bool converged = false;
+  /// Accepted after max_iterations at ||R|| / F_ref above force_tolerance (accept_tolerance).
+  bool accepted = false;
   std::vector<IterationRecord> iterations;
 };
 
@@ -157,6 +165,10 @@ struct LoadStepResult {
   bool converged = false;
   int iterations = 0;  ///< Newton iterations over all sub-increments, failed ones too
   int cuts = 0;        ///< halvings
+  /// Sub-increments accepted after max_iterations (Settings::accept_tolerance) and the largest
+  /// ||R|| / F_ref of them.
+  int accepted = 0;
+  double largest_accepted_residual = 0.0;
   std::vector<SubIncrementRecord> sub_increments;
   std::string message;  ///< why it failed
   /// Time of the parts [s]: model updates and tangents, assembly, factorisation and solve.
