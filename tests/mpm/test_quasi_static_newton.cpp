@@ -1,5 +1,6 @@
 // Quasi-static analysis (docs/quasi-static.md): Lamé's thick cylinder (verification 2) and the
 // convergence of Newton's method (verification 6).
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -293,6 +294,32 @@ TEST(QuasiStaticNewton, AStepAboveTheToleranceIsAcceptedBelowTheAcceptToleranceE
   EXPECT_GT(accepted, 0);
   EXPECT_GT(largest, Settings{}.force_tolerance);
   EXPECT_LE(largest, 0.1);
+}
+
+// A stress update that fails names the particle, where it is and the model's reason (issue 22,
+// robustness): a hypoplastic column whose particle 5 has a void ratio below zero.
+TEST(QuasiStaticNewton, AFailedStressUpdateNamesTheParticleAndTheModelsReason) {
+  const double h = 0.25, void_ratio = 0.68;
+  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2), GridAxis::uniform(0.0, 1.0 + 2.0 * h, 6));
+  test_support::set_walls_and_fixed_base(grid);
+  const auto model =
+      std::make_shared<Hypoplastic>(hypoplastic_set("original"), intergranular_strain_set("IGS3"));
+  RectangleFill fill = test_support::block_fill(0.0, 2.0 * h, 0.0, 1.0, 1600.0);
+  fill.initial_state.void_ratio = void_ratio;
+  Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
+  for (std::size_t p = 0; p < particles.size(); ++p)
+    particles.state[p].stress = diagonal6(-10e3, -10e3, -10e3);
+  particles.state[5].void_ratio = -1.0;
+  const Vec2 where = particles.position[5];
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, Settings{});
+  LoadStep load;
+  load.gravity_multiplier = 1.0;
+  const LoadStepResult r = solver.solve_step(load);
+  ASSERT_FALSE(r.converged);
+  EXPECT_NE(r.message.find("particle 5 at x = " + fmt::format("{:.6g}", where.x())),
+            std::string::npos)
+      << r.message;
+  EXPECT_NE(r.message.find("void ratio"), std::string::npos) << r.message;
 }
 
 }  // namespace

@@ -138,6 +138,13 @@ std::vector<double> QuasiStaticSolver::prediction(const StepSetup& setup,
   return predicted;
 }
 
+std::string QuasiStaticSolver::failed_update(const Trial& trial) const {
+  if (trial.failed_particle < 0) return "";
+  const std::size_t i = std::size_t(trial.failed_particle);
+  return fmt::format(" (particle {} at x = {:.6g} m, y = {:.6g} m: {})", i,
+                     particles_.position[i].x(), particles_.position[i].y(), trial.failure);
+}
+
 bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& load,
                                             SubIncrementRecord& record, LoadStepResult& result) {
   // The sub-increment's targets, linear in the fraction of the step from the current state.
@@ -156,7 +163,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     return t.has_matrix || evaluate(setup, du, gravity, traction, body_step, true, t, result);
   };
   if (!evaluate(setup, du, gravity, traction, body_step, false, trial, result)) {
-    result.message = "a stress update failed at the start of the increment";
+    result.message = "a stress update failed at the start of the increment" + failed_update(trial);
     return false;
   }
   // Predictor: the last increment's nodal displacements scaled to this one's body motion, kept
@@ -187,7 +194,8 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   for (int iteration = 1; iteration <= settings_.max_iterations; ++iteration) {
     ++result.iterations;
     if (!with_matrix(trial)) {
-      result.message = "a stress update failed in the iterations";
+      result.message =
+          fmt::format("a stress update failed in iteration {}", iteration) + failed_update(trial);
       return false;
     }
     const auto factor_start = std::chrono::steady_clock::now();
@@ -238,7 +246,9 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       length *= 0.5;
     }
     if (!std::isfinite(best_norm)) {
-      result.message = "a stress update failed in the iterations";
+      result.message =
+          fmt::format("a stress update failed in iteration {}'s line search", iteration) +
+          failed_update(next);
       return false;
     }
     du.swap(best_du);

@@ -275,6 +275,8 @@ class QuasiStaticSolver final : public MpmState {
   };
   Targets targets(double fraction, const LoadStep& load) const;
   void build_setup(StepSetup& setup) const;
+  // " (particle i at x, y: the model's reason)" for the trial's failed stress update, or "".
+  std::string failed_update(const Trial& trial) const;
   // The Newton matrix's fixed pattern and the scatter maps of a set-up (StepSetup::pattern).
   void build_pattern(StepSetup& setup) const;
   // The predictor of a sub-increment: the last increment's nodal displacements scaled to this

@@ -136,7 +136,9 @@ struct QuasiStaticSolver::Trial {
   std::vector<Entry> contact_entries, ghost_entries;
   bool has_matrix = false;
   double reference_force = 0.0;
-  int floor_particles = 0;  // stress updates that ended on the model's mean stress floor
+  int floor_particles = 0;    // stress updates that ended on the model's mean stress floor
+  long failed_particle = -1;  // the first particle whose stress update failed, or -1
+  const char* failure = "";   // its model's reason
 
   // The Newton matrix's values into `matrix`, a copy of the set-up's pattern.
   void fill(SparseMatrix& matrix) const {

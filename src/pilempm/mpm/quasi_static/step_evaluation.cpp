@@ -43,6 +43,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
 
   // Kinematics, the stress from the converged state and the tangent, particle by particle.
   bool failed = false;
+  trial.failed_particle = -1;
+  trial.failure = "";
   int floor_particles = 0;
   const TangentKind kind = settings_.tangent;
   // The strain components that vary (rows of B): plane strain has no 33.
@@ -89,6 +91,11 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     const UpdateResult update = model.update(state, strain);
     if (!update.ok) {
       failed = true;
+#pragma omp critical(quasi_static_failed_update)
+      if (trial.failed_particle < 0 || i < trial.failed_particle) {
+        trial.failed_particle = i;
+        trial.failure = update.message;
+      }
       continue;
     }
     if (update.mean_stress_floor_hits > 0) ++floor_particles;
