@@ -2,9 +2,9 @@
 // (docs/centrifuge.md): a Mohr-Coulomb or linear elastic [[material]] as the sand, read by the
 // model's own reader of the registry, with its K0 and δ defaults; the keys of another model (in
 // the [[material]] or in [sand]) and the MPM-4 switch with such sand as errors naming the file,
-// the line and the key; [solver] analysis = "quasi-static" with displacement_step_D, the keys of
-// the explicit analysis refused in it, and the typed quasi-static case written as mpm_case.toml
-// reading back as the same case.
+// the line and the key; [solver] analysis = "quasi-static" with displacement_step_D and
+// contact_smoothing, the keys of the explicit analysis refused in it, and the typed quasi-static
+// case written as mpm_case.toml reading back as the same case.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -185,6 +185,21 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheLoadStepInDiameters) {
                  "solver.displacement_step_D", "[0.0001, 1]");
   expect_refused(kMohrCoulomb + std::string("[solver]\ndisplacement_step_D = 0.05\n"),
                  "displacement_step_D", "solver.displacement_step_D", "quasi-static");
+}
+
+TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheContactSmoothing) {
+  const CentrifugeScenario s = read_centrifuge_case_text(quasi_static(kMohrCoulomb), "case.toml");
+  const double by_default =
+      centrifuge_to_mpm_case(s, "mpm_case.toml").quasi_static.contact.smoothing;
+  EXPECT_EQ(by_default, s.contact_smoothing);
+  EXPECT_GT(by_default, 0.0);
+  const CentrifugeScenario smoother = read_centrifuge_case_text(
+      quasi_static(kMohrCoulomb, "contact_smoothing = 0.3\n"), "case.toml");
+  EXPECT_EQ(centrifuge_to_mpm_case(smoother, "mpm_case.toml").quasi_static.contact.smoothing, 0.3);
+  expect_refused(quasi_static(kMohrCoulomb, "contact_smoothing = 1.5\n"), "contact_smoothing",
+                 "solver.contact_smoothing", "[0, 1]");
+  expect_refused(kMohrCoulomb + std::string("[solver]\ncontact_smoothing = 0.1\n"),
+                 "contact_smoothing", "solver.contact_smoothing", "quasi-static");
 }
 
 TEST(CentrifugeCaseModels, KeysOfTheExplicitAnalysisAreErrorsInAQuasiStaticCase) {

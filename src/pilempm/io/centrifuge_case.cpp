@@ -183,6 +183,11 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
                      "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
     s.displacement_step_D =
         t->number_or("displacement_step_D", s.displacement_step_D, NumberRange::closed(1e-4, 1.0));
+    if (!quasi_static && t->contains("contact_smoothing"))
+      throw t->error("contact_smoothing",
+                     "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
+    s.contact_smoothing =
+        t->number_or("contact_smoothing", s.contact_smoothing, NumberRange::closed(0.0, 1.0));
     s.mass_scaling = t->number_or("mass_scaling", s.mass_scaling, NumberRange::at_least(1.0));
     s.courant_number =
         t->number_or("courant_number", s.courant_number, NumberRange::left_open(0.0, 1.0));

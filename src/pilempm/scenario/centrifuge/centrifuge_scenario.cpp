@@ -240,9 +240,9 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
   const bool quasi_static = s.analysis == MpmAnalysis::quasi_static;
   if (quasi_static) {
     c.displacement_step = v(s.displacement_step_D * D);
-    // The contact's normal force smoothed over 0.05 particle sizes: without it the quick case's
-    // installation stopped at 1.6 D (docs/centrifuge.md, "The quasi-static analysis").
-    c.quasi_static.contact.smoothing = 0.05;
+    // The contact's normal force smoothed over a fraction of the particle size: without it the
+    // quick case's installation stopped at 1.6 D (docs/centrifuge.md, "The quasi-static analysis").
+    c.quasi_static.contact.smoothing = v(s.contact_smoothing);
   } else {  // the explicit analysis's own settings (the quasi-static case keeps the defaults)
     solver.mass_scaling = v(s.mass_scaling);
     solver.courant_number = v(s.courant_number);

@@ -61,6 +61,9 @@ struct CentrifugeScenario {
   // averaging belong to the explicit analysis and are not used by the quasi-static one.
   simulation::MpmAnalysis analysis = simulation::MpmAnalysis::explicit_dynamic;
   double displacement_step_D = 0.025;
+  /// The contact's normal force smoothed over this fraction of the particle size
+  /// (mpm::ContactSettings::smoothing; quasi-static analysis only, docs/centrifuge.md).
+  double contact_smoothing = 0.05;
 
   // The phases.
   double wished_in_place_D = 10.0;  ///< tip depth below the surface when the pile is put in
