@@ -88,6 +88,9 @@ void run_mpm(const MpmRunFlags& flags) {
       summary.steps, summary.time, summary.wall_seconds, summary.vtu_files.size(),
       summary.pvd_file.string(), summary.energies_file.string(),
       summary.bodies_file.empty() ? std::string() : ", bodies in " + summary.bodies_file.string());
+  if (!summary.load_steps_file.empty())
+    fmt::print("load steps (Newton iterations, cuts, times) in {}\n",
+               summary.load_steps_file.string());
 }
 
 }  // namespace
@@ -99,8 +102,8 @@ void register_mpm_commands(CLI::App& app) {
   CLI::App* run = mpm->add_subcommand(
       "run",
       "run an MPM case file (docs/mpm-case-files.md); writes particles_*.vtu, "
-      "particles.pvd (open in ParaView), energies.csv, bodies.csv and a checkpoint "
-      "per phase");
+      "particles.pvd (open in ParaView), energies.csv, bodies.csv, load_steps.csv "
+      "(quasi-static analysis) and a checkpoint per phase");
   run->add_option("case", flags->case_file, "the case file (TOML)")
       ->required()
       ->type_name("CASE.toml");

@@ -1,8 +1,9 @@
 // MPM case files run with [solver] analysis = "quasi-static" (docs/mpm-case-files.md,
 // "Analyses"): the self-weight column against its closed form in one load step, a plate pushed
 // into a block in load steps that land exactly on the displacement goal with the soil's vertical
-// forces in balance at every step, a restart that continues bitwise, and the keys of the other
-// analysis refused with the file, line and key.
+// forces in balance at every step, load_steps.csv with the Newton work of each load step, a
+// restart that continues bitwise, and the keys of the other analysis refused with the file, line
+// and key.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
@@ -12,6 +13,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "../support/files.hpp"
 #include "../support/input_texts.hpp"
@@ -155,6 +157,63 @@ TEST(QuasiStaticMpmCase, PlateStopsExactlyOnTheGoal) {
   EXPECT_GT(scheme.state().rigid_body_force(0).total.y(), 0.0);
 }
 
+// The rows of a CSV file without its comment line and header, split at commas.
+std::vector<std::vector<std::string>> csv_rows(const fs::path& file) {
+  std::istringstream in(read_text(file));
+  std::string line;
+  std::vector<std::vector<std::string>> rows;
+  int header = 0;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    if (header++ == 0) continue;
+    std::vector<std::string> cells;
+    std::istringstream fields(line);
+    std::string cell;
+    while (std::getline(fields, cell, ',')) cells.push_back(cell);
+    rows.push_back(cells);
+  }
+  return rows;
+}
+
+TEST(QuasiStaticMpmCase, LoadStepsFileHasOneRowPerLoadStepWithItsNewtonWork) {
+  const MpmCase c = read_mpm_case_text(plate_case(), "plate.toml");
+  const fs::path out = fresh_temp_path("qs-load-steps");
+  const MpmRunSummary run = run_mpm_case(c, out, nullptr);
+  ASSERT_EQ(run.load_steps_file, out / "load_steps.csv");
+  const std::vector<std::vector<std::string>> rows = csv_rows(run.load_steps_file);
+  // time_s,step,phase,solves,iterations,cuts,accepted,largest_accepted_residual,unknowns,
+  // penetration_m,material_s,assembly_s,factorisation_s,wall_s
+  ASSERT_EQ(long(rows.size()), run.steps);
+  long iterations = 0, cuts = 0, bisected = 0;
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    ASSERT_EQ(rows[k].size(), 14u);
+    EXPECT_EQ(std::stol(rows[k][1]), long(k) + 1);  // the load step that ended there
+    iterations += std::stol(rows[k][4]);
+    cuts += std::stol(rows[k][5]);
+    EXPECT_GT(std::stoi(rows[k][8]), 0);
+    const int solves = std::stoi(rows[k][3]);
+    if (solves == 1) continue;
+    // The lift's last step, where the force crosses 1 kN: solved, bisected 12 times, solved
+    // again at the crossing.
+    EXPECT_EQ(solves, 14);
+    EXPECT_EQ(k + 1, rows.size());
+    EXPECT_EQ(rows[k][2], c.phases[1].name);
+    ++bisected;
+  }
+  EXPECT_EQ(bisected, 1);
+  EXPECT_EQ(iterations, run.newton_iterations);
+  EXPECT_EQ(cuts, run.newton_cuts);
+  EXPECT_GT(iterations, 0);
+  fs::remove_all(out);
+  // The explicit analysis has no such file.
+  const std::string text =
+      replaced(plate_case(), "analysis = \"quasi-static\"\ndisplacement_step_m = 0.001\n", "");
+  EXPECT_TRUE(run_mpm_case(read_mpm_case_text(text, "explicit.toml"), out, nullptr)
+                  .load_steps_file.empty());
+  EXPECT_FALSE(fs::exists(out / "load_steps.csv"));
+  fs::remove_all(out);
+}
+
 TEST(QuasiStaticMpmCase, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
   const MpmCase c = read_mpm_case_text(plate_case(), "plate.toml");
   const fs::path whole = fresh_temp_path("qs-whole");
@@ -167,6 +226,13 @@ TEST(QuasiStaticMpmCase, RestartFromTheFirstPhaseEndsWithTheSameOutput) {
   EXPECT_EQ(part.time, full.time);
   EXPECT_EQ(read_text(second / "energies.csv"), read_text(whole / "energies.csv"));
   EXPECT_EQ(read_text(second / "bodies.csv"), read_text(whole / "bodies.csv"));
+  // load_steps.csv goes on from the checkpoint's rows: the same rows but for the timings.
+  const auto whole_steps = csv_rows(whole / "load_steps.csv");
+  const auto part_steps = csv_rows(second / "load_steps.csv");
+  ASSERT_EQ(part_steps.size(), whole_steps.size());
+  for (std::size_t k = 0; k < whole_steps.size(); ++k)
+    for (std::size_t column = 0; column < 10; ++column)
+      EXPECT_EQ(part_steps[k][column], whole_steps[k][column]) << k << ", " << column;
 
   // An explicit case cannot continue a quasi-static checkpoint.
   std::string text =

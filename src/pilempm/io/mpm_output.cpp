@@ -175,6 +175,27 @@ std::string mpm_energies_row(const mpm::MpmState& solver, double time_step) {
                   csv_number(e.contact_work, 10), csv_number(e.absorbed, 10)});
 }
 
+std::string mpm_load_steps_header() {
+  return "# quasi-static load steps: the Newton work of each, at the pseudo-time of its end; "
+         "solves: 1, or more where a force stop rule was bisected within the step (the columns "
+         "sum over them); accepted: sub-increments accepted above the force tolerance "
+         "(accept_tolerance) and the largest ||R|| / F_ref of them; penetration: the largest of a "
+         "contact point into a body at the step's end\n"
+         "time_s,step,phase,solves,iterations,cuts,accepted,largest_accepted_residual,unknowns,"
+         "penetration_m,material_s,assembly_s,factorisation_s,wall_s\n";
+}
+
+std::string mpm_load_steps_row(const mpm::MpmState& solver, const std::string& phase,
+                               const simulation::LoadStepRecord& record, double penetration) {
+  return csv_row({csv_number(solver.time(), 10), std::to_string(solver.steps()), phase,
+                  std::to_string(record.solves), std::to_string(record.iterations),
+                  std::to_string(record.cuts), std::to_string(record.accepted),
+                  csv_number(record.largest_accepted_residual, 3), std::to_string(record.unknowns),
+                  csv_number(penetration, 4), csv_number(record.material_seconds, 4),
+                  csv_number(record.assembly_seconds, 4),
+                  csv_number(record.factorisation_seconds, 4), csv_number(record.wall_seconds, 4)});
+}
+
 namespace {
 
 // The surface part names of all bodies, in order of first appearance.
@@ -265,6 +286,7 @@ namespace {
 // The records of a checkpoint: the output text so far and the snapshot series.
 constexpr const char* kEnergiesRecord = "energies.csv";
 constexpr const char* kBodiesRecord = "bodies.csv";
+constexpr const char* kLoadStepsRecord = "load_steps.csv";
 // "time<TAB>file relative to the folder[<TAB>part]" (no part: 0, the particles; 1: the bodies)
 constexpr const char* kSeriesRecord = "particles.pvd";
 
@@ -272,11 +294,13 @@ constexpr const char* kSeriesRecord = "particles.pvd";
 // series, energies.csv and bodies.csv (rewritten at every snapshot and at the end), checkpoints.
 class MpmOutputWriter final : public RunObserver {
  public:
-  // `scheme`: the run's analysis, whose next step each row of energies.csv gives.
+  // `scheme`: the run's analysis, whose next step each row of energies.csv gives;
+  // `quasi_static`: the same when it is the quasi-static analysis (load_steps.csv), else null.
   MpmOutputWriter(const MpmCase& c, const std::filesystem::path& out_dir, Scheme& scheme,
-                  MpmRunSummary& summary)
+                  const QuasiStaticScheme* quasi_static, MpmRunSummary& summary)
       : case_(c),
         scheme_(scheme),
+        quasi_static_(quasi_static),
         out_dir_(out_dir),
         absolute_out_(std::filesystem::absolute(out_dir)),
         summary_(summary),
@@ -284,7 +308,8 @@ class MpmOutputWriter final : public RunObserver {
         initial_position_(scheme.state().particles().position),
         with_bodies_(!c.bodies.empty()),
         energies_(mpm_energies_header(c.geometry)),
-        bodies_(with_bodies_ ? mpm_bodies_header(scheme.state()) : std::string()) {
+        bodies_(with_bodies_ ? mpm_bodies_header(scheme.state()) : std::string()),
+        load_steps_(quasi_static != nullptr ? mpm_load_steps_header() : std::string()) {
     std::map<std::string, int> distinct;
     for (const std::string& name : c.material_names)
       material_index_.push_back(
@@ -293,6 +318,7 @@ class MpmOutputWriter final : public RunObserver {
     summary_.pvd_file = out_dir / "particles.pvd";
     summary_.energies_file = out_dir / "energies.csv";
     if (with_bodies_) summary_.bodies_file = out_dir / "bodies.csv";
+    if (quasi_static_ != nullptr) summary_.load_steps_file = out_dir / "load_steps.csv";
   }
 
   // The output of the run that wrote `restart` so far: its records, its initial positions.
@@ -305,6 +331,8 @@ class MpmOutputWriter final : public RunObserver {
     };
     if (!record(kEnergiesRecord).empty()) energies_ = record(kEnergiesRecord);
     if (with_bodies_ && !record(kBodiesRecord).empty()) bodies_ = record(kBodiesRecord);
+    if (quasi_static_ != nullptr && !record(kLoadStepsRecord).empty())
+      load_steps_ = record(kLoadStepsRecord);
     const std::filesystem::path from = std::filesystem::absolute(restart).parent_path();
     std::istringstream entries(record(kSeriesRecord));
     std::string line;
@@ -331,8 +359,11 @@ class MpmOutputWriter final : public RunObserver {
     write_records();
   }
 
-  void after_step(const Scheme& scheme, const MpmPhase& /*phase*/, double dt) override {
+  void after_step(const Scheme& scheme, const MpmPhase& phase, double dt) override {
     if (with_bodies_ && scheme.inertial()) force_means_.add_step(scheme.state(), dt);
+    if (quasi_static_ != nullptr)
+      load_steps_ += mpm_load_steps_row(scheme.state(), phase.name, quasi_static_->last_advance(),
+                                        quasi_static_->solver().max_penetration());
   }
 
   void record(const Scheme& scheme, const MpmPhase& phase) override {
@@ -392,6 +423,7 @@ class MpmOutputWriter final : public RunObserver {
     info.initial_position = initial_position_;
     info.records[kEnergiesRecord] = energies_;
     if (with_bodies_) info.records[kBodiesRecord] = bodies_;
+    if (quasi_static_ != nullptr) info.records[kLoadStepsRecord] = load_steps_;
     std::string entries;
     for (const SeriesEntry& e : series_entries_) {
       entries += fmt::format("{:.17g}\t", e.time);
@@ -408,10 +440,12 @@ class MpmOutputWriter final : public RunObserver {
   void write_records() {
     write_file_atomically(summary_.energies_file, energies_);
     if (with_bodies_) write_file_atomically(summary_.bodies_file, bodies_);
+    if (quasi_static_ != nullptr) write_file_atomically(summary_.load_steps_file, load_steps_);
   }
 
   const MpmCase& case_;
   Scheme& scheme_;
+  const QuasiStaticScheme* quasi_static_;
   std::filesystem::path out_dir_, absolute_out_;
   MpmRunSummary& summary_;
   PvdSeries series_;
@@ -425,7 +459,7 @@ class MpmOutputWriter final : public RunObserver {
   std::vector<int> material_index_;
   std::vector<std::string> body_names_;
   bool with_bodies_;
-  std::string energies_, bodies_;
+  std::string energies_, bodies_, load_steps_;
   std::size_t vtu_count_ = 0;
   MpmBodyForceMeans force_means_;
 };
@@ -447,7 +481,7 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
   }
   MpmRunSummary summary;
   summary.analysis = c.analysis;
-  MpmOutputWriter writer(c, out_dir, *scheme, summary);
+  MpmOutputWriter writer(c, out_dir, *scheme, quasi_static, summary);
   if (!restart.empty()) {
     // The case's solver takes the checkpoint's state; the material sets of the phases before
     // apply. (The next phase's settings are set when it begins: the checkpoint is taken at a

@@ -1,9 +1,10 @@
 #pragma once
 // Output of MPM runs (docs/mpm-case-files.md, "Output"): a VTU snapshot of the particles (and
 // one of the rigid bodies' polygons) per output time with a ParaView series (particles.pvd), the
-// energy account as CSV (energies.csv), the rigid bodies' motion and forces as CSV (bodies.csv) and
-// checkpoints, as an observer of the run loop (simulation/run_loop.hpp, which decides when). Files
-// are written atomically.
+// energy account as CSV (energies.csv), the rigid bodies' motion and forces as CSV (bodies.csv),
+// the quasi-static analysis's Newton work per load step (load_steps.csv) and checkpoints, as an
+// observer of the run loop (simulation/run_loop.hpp, which decides when). Files are written
+// atomically.
 #include <filesystem>
 #include <functional>
 #include <ostream>
@@ -13,6 +14,7 @@
 #include "pilempm/io/vtu_writer.hpp"
 #include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/simulation/mpm_case.hpp"
+#include "pilempm/simulation/quasi_static_scheme.hpp"
 #include "pilempm/simulation/run_loop.hpp"
 
 namespace pilempm {
@@ -46,6 +48,13 @@ std::string mpm_energies_header(mpm::Geometry geometry);
 /// step, or a load step's pseudo-time) [s].
 std::string mpm_energies_row(const mpm::MpmState& solver, double time_step);
 
+/// The header of load_steps.csv (quasi-static analysis: a comment line with the units, then the
+/// column names) and one row of it: the Newton work of the load step that ended at the solver's
+/// time, in `phase`.
+std::string mpm_load_steps_header();
+std::string mpm_load_steps_row(const mpm::MpmState& solver, const std::string& phase,
+                               const simulation::LoadStepRecord& record, double penetration);
+
 /// The header of bodies.csv (a comment line with the units, then the column names): one
 /// force_y_<part>_N column per surface part name of the solver's bodies.
 std::string mpm_bodies_header(const mpm::MpmState& solver);
@@ -65,6 +74,7 @@ struct MpmRunSummary {
   double wall_seconds = 0.0;
   std::vector<std::filesystem::path> vtu_files;                ///< written by this run
   std::filesystem::path pvd_file, energies_file, bodies_file;  ///< bodies_file: empty if none
+  std::filesystem::path load_steps_file;            ///< quasi-static analysis only, else empty
   std::vector<simulation::MpmPhaseEnd> phase_ends;  ///< the phases this run ran, in order
   std::vector<std::filesystem::path> checkpoints;   ///< written by this run
   std::size_t first_phase = 0;                      ///< > 0 when restarted

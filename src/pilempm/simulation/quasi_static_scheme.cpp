@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -87,7 +88,21 @@ void QuasiStaticScheme::solve_load_step(double duration) {
   load.traction_multiplier = traction_forces_.empty() ? 0.0 : 1.0;  // the phase's loads are set
   for (int b = 0; b < solver_.rigid_body_count(); ++b)
     load.body_displacement.push_back(solver_.rigid_body(b).velocity() * duration);
+  const auto start = std::chrono::steady_clock::now();
   last_step_ = solver_.solve_step(load);
+  LoadStepRecord& record = last_advance_;
+  ++record.solves;
+  record.iterations += last_step_.iterations;
+  record.cuts += last_step_.cuts;
+  record.accepted += last_step_.accepted;
+  record.largest_accepted_residual =
+      std::max(record.largest_accepted_residual, last_step_.largest_accepted_residual);
+  record.unknowns = last_step_.unknowns;
+  record.material_seconds += last_step_.seconds_material;
+  record.assembly_seconds += last_step_.seconds_assembly;
+  record.factorisation_seconds += last_step_.seconds_factorisation;
+  record.wall_seconds +=
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   total_iterations_ += last_step_.iterations;
   total_cuts_ += last_step_.cuts;
   total_accepted_ += last_step_.accepted;
@@ -110,6 +125,7 @@ Advance QuasiStaticScheme::advance(double target) {
   double step = step_length();
   // A step that would end within round-off of the target ends on it (no sliver of a step after).
   if (!(step > 0.0) || target - time() <= step * (1.0 + 1e-9)) step = target - time();
+  last_advance_ = LoadStepRecord{};
   const MpmStepPlan plan = control_->plan_step(target, step);
   const double duration = plan.end - solver_.time();
   const bool force_rules =

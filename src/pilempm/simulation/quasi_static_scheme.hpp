@@ -20,6 +20,18 @@
 
 namespace pilempm::simulation {
 
+/// The Newton work of one advance (one load step, or the solves of a load step in which a force
+/// stop rule is bisected), for the run's load_steps.csv.
+struct LoadStepRecord {
+  int solves = 0;  ///< load-step solves: 1, or 2 + the bisections when a force rule is bisected
+  int iterations = 0, cuts = 0;
+  int accepted = 0;                        ///< sub-increments accepted above the tolerance
+  double largest_accepted_residual = 0.0;  ///< the largest ||R|| / F_ref of them
+  int unknowns = 0;                        ///< of the last system
+  double material_seconds = 0.0, assembly_seconds = 0.0, factorisation_seconds = 0.0;
+  double wall_seconds = 0.0;
+};
+
 class QuasiStaticScheme final : public Scheme {
  public:
   /// The solver of the case at time 0 (make_quasi_static_solver); `mpm_case` must outlive the
@@ -44,6 +56,8 @@ class QuasiStaticScheme final : public Scheme {
   const mpm::quasi_static::QuasiStaticSolver& solver() const { return solver_; }
   /// The last load step's Newton record.
   const mpm::quasi_static::LoadStepResult& last_step() const { return last_step_; }
+  /// The last advance's Newton work (over its bisections too).
+  const LoadStepRecord& last_advance() const { return last_advance_; }
   /// Over the run: Newton iterations, cuts, the largest iterations of one step and the largest
   /// penetration of a contact point [m].
   long total_iterations() const { return total_iterations_; }
@@ -67,6 +81,7 @@ class QuasiStaticScheme final : public Scheme {
   std::optional<MpmPhaseControl> control_;  // of the current phase
   std::size_t phase_ = 0;
   mpm::quasi_static::LoadStepResult last_step_;
+  LoadStepRecord last_advance_;
   long total_iterations_ = 0, total_cuts_ = 0, total_accepted_ = 0;
   double largest_accepted_residual_ = 0.0;
   int most_iterations_ = 0;
