@@ -105,6 +105,7 @@ void apply_environment(Settings& settings) {
   if (const char* v = std::getenv("QS_FORCE_TOLERANCE")) settings.force_tolerance = std::atof(v);
   if (const char* v = std::getenv("QS_MAX_ITERATIONS")) settings.max_iterations = std::atoi(v);
   if (const char* v = std::getenv("QS_ACCEPT")) settings.accept_tolerance = std::atof(v);
+  if (const char* v = std::getenv("QS_ACCEPT_AFTER")) settings.accept_after = std::atoi(v);
   if (const char* v = std::getenv("QS_SMOOTHING")) settings.contact.smoothing = std::atof(v);
   if (const char* v = std::getenv("QS_TANGENTIAL_RATIO"))
     settings.contact.tangential_ratio = std::atof(v);

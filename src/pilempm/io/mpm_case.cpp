@@ -81,16 +81,13 @@ MpmGridAxis read_axis(TableReader& grid, std::string_view key, std::vector<doubl
 const std::vector<std::string> kExplicitOnlyKeys = {
     "scheme",       "flip_fraction",  "xpic_order",        "local_damping",
     "mass_scaling", "courant_number", "fixed_time_step_s", "contact"};
-const std::vector<std::string> kQuasiStaticOnlyKeys = {"displacement_step_m",
-                                                       "force_tolerance",
-                                                       "max_iterations",
-                                                       "max_cuts",
-                                                       "accept_tolerance",
-                                                       "linear_solver",
-                                                       "contact_penalty_factor",
-                                                       "newton_step_limit_cells",
-                                                       "contact_vertex_radius_cells",
-                                                       "contact_smoothing"};
+const std::vector<std::string> kQuasiStaticOnlyKeys = {
+    "displacement_step_m",     "force_tolerance",
+    "max_iterations",          "max_cuts",
+    "accept_tolerance",        "accept_after_iterations",
+    "linear_solver",           "contact_penalty_factor",
+    "newton_step_limit_cells", "contact_vertex_radius_cells",
+    "contact_smoothing"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -135,6 +132,7 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   q.max_cuts = solver->integer_or("max_cuts", q.max_cuts, 0, 30);
   q.accept_tolerance =
       solver->number_or("accept_tolerance", q.accept_tolerance, NumberRange::closed(0.0, 0.1));
+  q.accept_after = solver->integer_or("accept_after_iterations", q.accept_after, 0, 1000);
   if (auto linear = solver->optional_choice("linear_solver", {"umfpack", "sparse-lu"})) {
     q.linear_solver = *linear == "umfpack" ? mpm::quasi_static::LinearSolverKind::umfpack
                                            : mpm::quasi_static::LinearSolverKind::sparse_lu;

@@ -35,6 +35,7 @@ void Settings::validate() const {
   if (max_cuts < 0) throw InvalidValue("max_cuts", std::to_string(max_cuts), ">= 0");
   if (!(accept_tolerance >= 0.0 && accept_tolerance < 1.0))
     throw InvalidValue("accept_tolerance", format_value(accept_tolerance), "[0, 1)");
+  if (accept_after < 0) throw InvalidValue("accept_after", std::to_string(accept_after), ">= 0");
   if (easy_iterations < 0)
     throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
   if (!(support_threshold >= 0.0 && support_threshold < 1.0))
@@ -280,6 +281,11 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       result.message = "the Newton iterations diverge";
       return false;
     }
+    if (settings_.accept_after > 0 && iteration >= settings_.accept_after &&
+        iteration < settings_.max_iterations &&
+        trial.residual.norm() <=
+            settings_.accept_tolerance * std::max(trial.reference_force, 1.0e-300))
+      break;
   }
   const double ratio = trial.residual.norm() / std::max(trial.reference_force, 1.0e-300);
   if (ratio <= settings_.accept_tolerance) {

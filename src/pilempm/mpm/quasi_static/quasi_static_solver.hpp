@@ -73,6 +73,13 @@ struct Settings {
   /// the plastic or contact state of a few points changes between iterates; cutting the step
   /// then changes the path by more than this imbalance does (docs/quasi-static.md).
   double accept_tolerance = 1.0e-3;
+  /// From this iteration on, a sub-increment below accept_tolerance is accepted at once instead
+  /// of iterating on to max_iterations; 0: only after max_iterations. Where Newton circles (a
+  /// plastic or contact state changing between iterates) the iterations after it rarely bring
+  /// ||R|| much lower: on the pile push, 8 takes 38-46 % fewer iterations than iterating on,
+  /// with the head force within 0.4 % (hypoplastic) and 1.5 % (Mohr-Coulomb, whose path moves by
+  /// as much with round-off), docs/quasi-static.md, "Convergence".
+  int accept_after = 8;
   /// Backtracking on ||R|| (halving the Newton step up to this many times, 0: none).
   int line_search_steps = 4;
   /// The largest nodal displacement of one Newton step, in cells (of the smallest spacing); a
