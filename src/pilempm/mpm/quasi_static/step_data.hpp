@@ -135,6 +135,10 @@ struct QuasiStaticSolver::Trial {
   };
   std::vector<Entry> contact_entries, ghost_entries;
   bool has_matrix = false;
+  // The stresses above are those of the iterate in node_displacement (a successful evaluation),
+  // with on_floor per particle: an evaluation of the same iterate for its matrix reuses them.
+  bool has_states = false;
+  std::vector<char> on_floor;
   double reference_force = 0.0;
   int floor_particles = 0;    // stress updates that ended on the model's mean stress floor
   long failed_particle = -1;  // the first particle whose stress update failed, or -1

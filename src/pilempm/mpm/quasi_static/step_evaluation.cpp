@@ -29,6 +29,18 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       tangent && std::all_of(du.begin(), du.end(), [](double v) { return v == 0.0; });
   const auto material_start = std::chrono::steady_clock::now();
 
+  // The iterate this trial was last evaluated at, evaluated again for its matrix: its stresses
+  // stand (the model updates are not repeated, only the tangents are added).
+  bool same_iterate = trial.has_states && trial.on_floor.size() == std::size_t(count) &&
+                      trial.node_displacement.size() == std::size_t(nodes);
+  for (int n = 0; n < nodes && same_iterate; ++n)
+    for (int c = 0; c < 2; ++c) {
+      const int d = setup.dof[2 * std::size_t(n) + std::size_t(c)];
+      if (trial.node_displacement[std::size_t(n)][c] != (d >= 0 ? du[std::size_t(d)] : 0.0))
+        same_iterate = false;
+    }
+  const bool reuse_states = tangent && same_iterate;
+  trial.has_states = false;
   trial.node_displacement.assign(std::size_t(nodes), Vec2::Zero());
   for (int n = 0; n < nodes; ++n)
     for (int c = 0; c < 2; ++c) {
@@ -36,6 +48,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       if (d >= 0) trial.node_displacement[std::size_t(n)][c] = du[std::size_t(d)];
     }
   trial.state.resize(std::size_t(count));
+  trial.on_floor.resize(std::size_t(count));
   trial.strain_increment.resize(std::size_t(count));
   trial.gradient.resize(std::size_t(count));
   trial.hoop.resize(std::size_t(count));
@@ -87,18 +100,22 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     const ConstitutiveModel& model = *materials_[std::size_t(p.material[std::size_t(i)])];
     if (spin != 0.0) rotate_state_about_z(rotated, spin, model.history_variables());
     MaterialState& state = trial.state[std::size_t(i)];
-    state = rotated;
-    const UpdateResult update = model.update(state, strain);
-    if (!update.ok) {
-      failed = true;
+    if (!reuse_states) {
+      state = rotated;
+      const UpdateResult update = model.update(state, strain);
+      if (!update.ok) {
+        failed = true;
 #pragma omp critical(quasi_static_failed_update)
-      if (trial.failed_particle < 0 || i < trial.failed_particle) {
-        trial.failed_particle = i;
-        trial.failure = update.message;
+        if (trial.failed_particle < 0 || i < trial.failed_particle) {
+          trial.failed_particle = i;
+          trial.failure = update.message;
+        }
+        continue;
       }
-      continue;
+      trial.on_floor[std::size_t(i)] = update.mean_stress_floor_hits > 0 ? 1 : 0;
     }
-    if (update.mean_stress_floor_hits > 0) ++floor_particles;
+    const bool on_floor = trial.on_floor[std::size_t(i)] != 0;
+    if (on_floor) ++floor_particles;
     if (!tangent) continue;
     Mat4& d = trial.tangent[std::size_t(i)];
     d.setZero();
@@ -112,7 +129,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       d = in_plane(
           ElasticParameters{m * (1.0 + nu) * (1.0 - 2.0 * nu) / (1.0 - nu), nu}.stiffness());
     };
-    if (update.mean_stress_floor_hits > 0) {
+    if (on_floor) {
       elastic_fallback();
       continue;
     }
@@ -363,7 +380,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   }
   trial.reference_force = std::sqrt(std::max({internal_norm, external_norm, contact_norm}));
   result.seconds_assembly += seconds_since(assembly_start);
-  return trial.residual.allFinite();
+  trial.has_states = trial.residual.allFinite();
+  return trial.has_states;
 }
 
 }  // namespace pilempm::mpm::quasi_static
