@@ -178,14 +178,11 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
     for (const char* key :
          {"mass_scaling", "courant_number", "flip_fraction", "xpic_order", "local_damping"})
       refuse_explicit(*t, key);
-    if (!quasi_static && t->contains("displacement_step_D"))
-      throw t->error("displacement_step_D",
-                     "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
+    for (const char* key : {"displacement_step_D", "contact_smoothing"})
+      if (!quasi_static && t->contains(key))
+        throw t->error(key, "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
     s.displacement_step_D =
         t->number_or("displacement_step_D", s.displacement_step_D, NumberRange::closed(1e-4, 1.0));
-    if (!quasi_static && t->contains("contact_smoothing"))
-      throw t->error("contact_smoothing",
-                     "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
     s.contact_smoothing =
         t->number_or("contact_smoothing", s.contact_smoothing, NumberRange::closed(0.0, 1.0));
     s.mass_scaling = t->number_or("mass_scaling", s.mass_scaling, NumberRange::at_least(1.0));

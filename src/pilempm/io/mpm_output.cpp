@@ -294,13 +294,13 @@ constexpr const char* kSeriesRecord = "particles.pvd";
 // series, energies.csv and bodies.csv (rewritten at every snapshot and at the end), checkpoints.
 class MpmOutputWriter final : public RunObserver {
  public:
-  // `scheme`: the run's analysis, whose next step each row of energies.csv gives;
-  // `quasi_static`: the same when it is the quasi-static analysis (load_steps.csv), else null.
+  // `scheme`: the run's analysis, whose next step each row of energies.csv gives (and, when it
+  // is the quasi-static one, whose load steps load_steps.csv lists).
   MpmOutputWriter(const MpmCase& c, const std::filesystem::path& out_dir, Scheme& scheme,
-                  const QuasiStaticScheme* quasi_static, MpmRunSummary& summary)
+                  MpmRunSummary& summary)
       : case_(c),
         scheme_(scheme),
-        quasi_static_(quasi_static),
+        quasi_static_(dynamic_cast<const QuasiStaticScheme*>(&scheme)),
         out_dir_(out_dir),
         absolute_out_(std::filesystem::absolute(out_dir)),
         summary_(summary),
@@ -309,7 +309,7 @@ class MpmOutputWriter final : public RunObserver {
         with_bodies_(!c.bodies.empty()),
         energies_(mpm_energies_header(c.geometry)),
         bodies_(with_bodies_ ? mpm_bodies_header(scheme.state()) : std::string()),
-        load_steps_(quasi_static != nullptr ? mpm_load_steps_header() : std::string()) {
+        load_steps_(quasi_static_ != nullptr ? mpm_load_steps_header() : std::string()) {
     std::map<std::string, int> distinct;
     for (const std::string& name : c.material_names)
       material_index_.push_back(
@@ -481,7 +481,7 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
   }
   MpmRunSummary summary;
   summary.analysis = c.analysis;
-  MpmOutputWriter writer(c, out_dir, *scheme, quasi_static, summary);
+  MpmOutputWriter writer(c, out_dir, *scheme, summary);
   if (!restart.empty()) {
     // The case's solver takes the checkpoint's state; the material sets of the phases before
     // apply. (The next phase's settings are set when it begins: the checkpoint is taken at a

@@ -14,10 +14,13 @@
 #include "pilempm/io/vtu_writer.hpp"
 #include "pilempm/mpm/mpm_state.hpp"
 #include "pilempm/simulation/mpm_case.hpp"
-#include "pilempm/simulation/quasi_static_scheme.hpp"
 #include "pilempm/simulation/run_loop.hpp"
 
 namespace pilempm {
+
+namespace simulation {
+struct LoadStepRecord;  // simulation/quasi_static_scheme.hpp
+}  // namespace simulation
 
 /// The size R of the intergranular strain of each of the solver's models (0: none), by which
 /// ρ = ||δ|| / R.

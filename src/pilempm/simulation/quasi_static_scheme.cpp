@@ -15,6 +15,20 @@
 
 namespace pilempm::simulation {
 
+void LoadStepRecord::add(const mpm::quasi_static::LoadStepResult& step, double seconds) {
+  ++solves;
+  iterations += step.iterations;
+  cuts += step.cuts;
+  accepted += step.accepted;
+  largest_accepted_residual = std::max(largest_accepted_residual, step.largest_accepted_residual);
+  most_iterations = std::max(most_iterations, step.iterations);
+  unknowns = step.unknowns;
+  material_seconds += step.seconds_material;
+  assembly_seconds += step.seconds_assembly;
+  factorisation_seconds += step.seconds_factorisation;
+  wall_seconds += seconds;
+}
+
 QuasiStaticScheme::QuasiStaticScheme(const MpmCase& mpm_case)
     : case_(mpm_case), solver_(make_quasi_static_solver(mpm_case)) {
   if (!mpm_case.tractions.empty())
@@ -90,25 +104,10 @@ void QuasiStaticScheme::solve_load_step(double duration) {
     load.body_displacement.push_back(solver_.rigid_body(b).velocity() * duration);
   const auto start = std::chrono::steady_clock::now();
   last_step_ = solver_.solve_step(load);
-  LoadStepRecord& record = last_advance_;
-  ++record.solves;
-  record.iterations += last_step_.iterations;
-  record.cuts += last_step_.cuts;
-  record.accepted += last_step_.accepted;
-  record.largest_accepted_residual =
-      std::max(record.largest_accepted_residual, last_step_.largest_accepted_residual);
-  record.unknowns = last_step_.unknowns;
-  record.material_seconds += last_step_.seconds_material;
-  record.assembly_seconds += last_step_.seconds_assembly;
-  record.factorisation_seconds += last_step_.seconds_factorisation;
-  record.wall_seconds +=
+  const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  total_iterations_ += last_step_.iterations;
-  total_cuts_ += last_step_.cuts;
-  total_accepted_ += last_step_.accepted;
-  largest_accepted_residual_ =
-      std::max(largest_accepted_residual_, last_step_.largest_accepted_residual);
-  most_iterations_ = std::max(most_iterations_, last_step_.iterations);
+  last_advance_.add(last_step_, seconds);
+  total_.add(last_step_, seconds);
   if (!last_step_.converged)
     throw Error(fmt::format(
         "quasi-static load step {} (from t = {:.6g} s to {:.6g} s): {}; the state is that of the "

@@ -20,16 +20,21 @@
 
 namespace pilempm::simulation {
 
-/// The Newton work of one advance (one load step, or the solves of a load step in which a force
-/// stop rule is bisected), for the run's load_steps.csv.
+/// The Newton work of load-step solves, summed: of one advance (one load step, or the solves of
+/// a load step in which a force stop rule is bisected; a row of the run's load_steps.csv), or of
+/// the whole run.
 struct LoadStepRecord {
-  int solves = 0;  ///< load-step solves: 1, or 2 + the bisections when a force rule is bisected
-  int iterations = 0, cuts = 0;
-  int accepted = 0;                        ///< sub-increments accepted above the tolerance
+  long solves = 0;  ///< load-step solves: 1 per advance, or 2 + the bisections of a force rule
+  long iterations = 0, cuts = 0;
+  long accepted = 0;                       ///< sub-increments accepted above the tolerance
   double largest_accepted_residual = 0.0;  ///< the largest ||R|| / F_ref of them
+  int most_iterations = 0;                 ///< of one solve
   int unknowns = 0;                        ///< of the last system
   double material_seconds = 0.0, assembly_seconds = 0.0, factorisation_seconds = 0.0;
   double wall_seconds = 0.0;
+
+  /// Adds one solve that took `seconds` of wall time.
+  void add(const mpm::quasi_static::LoadStepResult& step, double seconds);
 };
 
 class QuasiStaticScheme final : public Scheme {
@@ -60,13 +65,13 @@ class QuasiStaticScheme final : public Scheme {
   const LoadStepRecord& last_advance() const { return last_advance_; }
   /// Over the run: Newton iterations, cuts, the largest iterations of one step and the largest
   /// penetration of a contact point [m].
-  long total_iterations() const { return total_iterations_; }
-  long total_cuts() const { return total_cuts_; }
+  long total_iterations() const { return total_.iterations; }
+  long total_cuts() const { return total_.cuts; }
   /// Load steps (or parts) accepted above the force tolerance (Settings::accept_tolerance) and
   /// the largest ||R|| / F_ref of them.
-  long total_accepted() const { return total_accepted_; }
-  double largest_accepted_residual() const { return largest_accepted_residual_; }
-  int most_iterations() const { return most_iterations_; }
+  long total_accepted() const { return total_.accepted; }
+  double largest_accepted_residual() const { return total_.largest_accepted_residual; }
+  int most_iterations() const { return total_.most_iterations; }
   double max_penetration() const { return max_penetration_; }
 
  private:
@@ -81,10 +86,7 @@ class QuasiStaticScheme final : public Scheme {
   std::optional<MpmPhaseControl> control_;  // of the current phase
   std::size_t phase_ = 0;
   mpm::quasi_static::LoadStepResult last_step_;
-  LoadStepRecord last_advance_;
-  long total_iterations_ = 0, total_cuts_ = 0, total_accepted_ = 0;
-  double largest_accepted_residual_ = 0.0;
-  int most_iterations_ = 0;
+  LoadStepRecord last_advance_, total_;  // of the last advance; of the run
   double max_penetration_ = 0.0;
 };
 

@@ -31,15 +31,14 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
 
   // The iterate this trial was last evaluated at, evaluated again for its matrix: its stresses
   // stand (the model updates are not repeated, only the tangents are added).
-  bool same_iterate = trial.has_states && trial.on_floor.size() == std::size_t(count) &&
+  bool reuse_states = tangent && trial.has_states && trial.on_floor.size() == std::size_t(count) &&
                       trial.node_displacement.size() == std::size_t(nodes);
-  for (int n = 0; n < nodes && same_iterate; ++n)
+  for (int n = 0; n < nodes && reuse_states; ++n)
     for (int c = 0; c < 2; ++c) {
       const int d = setup.dof[2 * std::size_t(n) + std::size_t(c)];
       if (trial.node_displacement[std::size_t(n)][c] != (d >= 0 ? du[std::size_t(d)] : 0.0))
-        same_iterate = false;
+        reuse_states = false;
     }
-  const bool reuse_states = tangent && same_iterate;
   trial.has_states = false;
   trial.node_displacement.assign(std::size_t(nodes), Vec2::Zero());
   for (int n = 0; n < nodes; ++n)
