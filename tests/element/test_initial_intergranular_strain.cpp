@@ -32,7 +32,9 @@ InitialCondition initial(InitialCondition::Igs igs) {
 // stiffness is m_T L + (1 - m_T) L:dd + N d, which applied to D is L:D + N ||D||: the basic
 // model's response (Niemunis & Herle 1997). So an oedometer started with delta along its first
 // (axial) increment takes that increment exactly as the model without intergranular strain,
-// while the isotropic start ("compression") makes it stiffer.
+// while the isotropic start ("compression") makes it stiffer. Equal to the integrator's accuracy:
+// the run with intergranular strain takes shorter sub-steps (its stability limit, R / ||Δε||),
+// so the two integrate the same rates along different sub-steps (measured: 1.0e-5 apart).
 TEST(InitialIntergranularStrain, FirstIncrementStartGivesTheBasicModelsFirstStep) {
   const HypoplasticParameters set = hypoplastic_set("original");
   const Hypoplastic with_igs(set, intergranular_strain_set("IGS3"));
@@ -43,7 +45,7 @@ TEST(InitialIntergranularStrain, FirstIncrementStartGivesTheBasicModelsFirstStep
   const double along = first_strain(with_igs, InitialCondition::Igs::first_increment);
   const double reference = first_strain(basic, InitialCondition::Igs::zero);
   const double isotropic = first_strain(with_igs, InitialCondition::Igs::compression);
-  EXPECT_NEAR(along, reference, 1e-6 * reference);
+  EXPECT_NEAR(along, reference, 1e-4 * reference);
   EXPECT_LT(isotropic, 0.9 * reference);  // stiffer: the path turns away from delta
   // The intergranular strain stays fully mobilised along the loading.
   const ElementResult r =

@@ -1,6 +1,7 @@
 #pragma once
 // The one interface through which every consumer (element tests, MPM, calibration, benchmarks)
 // calls a constitutive model. A model knows nothing of grids, particles or files.
+#include <array>
 #include <memory>
 #include <span>
 #include <string>
@@ -20,6 +21,47 @@ struct UpdateResult {
   const char* message = "";        ///< why it failed (static text), empty when ok
 };
 
+/// The sub-steps an update by sub-stepping took (the accepted steps of its integrator, as fractions
+/// of the increment), so that the update of a nearby increment can take the very same ones
+/// (ConstitutiveModel::update_along). A finite-difference tangent of the integrated update needs
+/// this: two adaptive integrations of nearly the same increment can choose different sub-steps,
+/// and their difference is then of the order of the integrator's tolerance, not of the
+/// perturbation; along one path the difference quotient is the derivative of one smooth map.
+struct SubstepPath {
+  /// The most runs of equal sub-steps a path holds (the sub-steps an integrator's stability limit
+  /// caps are equal: a long path has few runs).
+  static constexpr int kCapacity = 24;
+  /// Whether the runs hold the whole path: false for a model that does not sub-step, an update
+  /// that reached the edge of the model's domain (its path is not smooth there) or a path of more
+  /// than kCapacity runs.
+  bool replayable = false;
+  int runs = 0;
+  std::array<double, kCapacity> step{};  ///< run r: `repeat[r]` sub-steps of `step[r]` each
+  std::array<int, kCapacity> repeat{};
+
+  void clear() {
+    replayable = false;
+    runs = 0;
+  }
+  /// Appends a sub-step (not replayable once the runs are full).
+  void append(double h) {
+    if (runs > 0 && step[std::size_t(runs - 1)] == h) {
+      ++repeat[std::size_t(runs - 1)];
+    } else if (runs < kCapacity) {
+      step[std::size_t(runs)] = h;
+      repeat[std::size_t(runs++)] = 1;
+    } else {
+      replayable = false;
+    }
+  }
+  /// The number of sub-steps.
+  int substeps() const {
+    int n = 0;
+    for (int r = 0; r < runs; ++r) n += repeat[std::size_t(r)];
+    return n;
+  }
+};
+
 /// A constitutive model: parameters in, and a pure function from (state, strain increment) to the
 /// new state. Implementations are immutable after construction and safe to call from many threads.
 class ConstitutiveModel {
@@ -33,6 +75,22 @@ class ConstitutiveModel {
   /// rotation of the stress by the spin is the caller's job (see objective_rotation.hpp), so the
   /// same code serves the element tests (no spin) and the MPM solver.
   virtual UpdateResult update(MaterialState& state, const Vec6& strain_increment) const = 0;
+
+  /// update() that also records in `path` the sub-steps it took (SubstepPath). By default, for
+  /// models that do not sub-step: update(), and the path is not replayable.
+  virtual UpdateResult update_recording(MaterialState& state, const Vec6& strain_increment,
+                                        SubstepPath& path) const {
+    path.clear();
+    return update(state, strain_increment);
+  }
+
+  /// The update taking the sub-steps of `path` without error control where the path is
+  /// replayable and stays inside the model's domain, else update(). By default update().
+  virtual UpdateResult update_along(MaterialState& state, const Vec6& strain_increment,
+                                    const SubstepPath& path) const {
+    (void)path;
+    return update(state, strain_increment);
+  }
 
   /// Tangent d(stress rate)/d(strain rate) at the state for a strain rate in the given direction
   /// (rate-independent models with a direction-dependent tangent need the direction).

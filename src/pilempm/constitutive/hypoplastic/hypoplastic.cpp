@@ -316,9 +316,38 @@ struct Hypoplastic::Increment {
     y.void_ratio += dt * k.void_ratio;
     y.delta += dt * k.delta;
   }
+  // The intergranular strain relaxes towards its bound at the rate max(beta_r, 1) ||D|| / R (the
+  // linearisation of delta' = D - rho^beta_r (delta_hat : D) delta_hat at ||delta|| = R, along
+  // and across delta_hat); the stress's own rates are far slower except near p = 0, where the
+  // error control shortens the sub-steps.
+  double stiffness() const {
+    const auto& igs = model.intergranular_;
+    if (!igs.enabled()) return 0.0;
+    return std::max(igs.beta_r, 1.0) * D.norm() / igs.R;
+  }
 };
 
 UpdateResult Hypoplastic::update(MaterialState& state, const Vec6& strain_increment) const {
+  return integrate(state, strain_increment, nullptr, nullptr);
+}
+
+UpdateResult Hypoplastic::update_recording(MaterialState& state, const Vec6& strain_increment,
+                                           SubstepPath& path) const {
+  path.clear();
+  return integrate(state, strain_increment, &path, nullptr);
+}
+
+UpdateResult Hypoplastic::update_along(MaterialState& state, const Vec6& strain_increment,
+                                       const SubstepPath& path) const {
+  if (path.replayable) {
+    const UpdateResult replayed = integrate(state, strain_increment, nullptr, &path);
+    if (replayed.ok) return replayed;
+  }
+  return integrate(state, strain_increment, nullptr, nullptr);
+}
+
+UpdateResult Hypoplastic::integrate(MaterialState& state, const Vec6& strain_increment,
+                                    SubstepPath* record, const SubstepPath* along) const {
   if (!state.stress.allFinite() || !std::isfinite(state.void_ratio) || !(state.void_ratio > 0.0) ||
       !strain_increment.allFinite()) {
     UpdateResult result;
@@ -327,8 +356,10 @@ UpdateResult Hypoplastic::update(MaterialState& state, const Vec6& strain_increm
     return result;
   }
   Point y{state.stress, state.void_ratio, intergranular_strain(state)};
+  const Increment increment{*this, strain_increment};
   const UpdateResult result =
-      integrate_embedded_runge_kutta(Increment{*this, strain_increment}, y, integrator_);
+      along ? replay_embedded_runge_kutta(increment, y, integrator_, *along)
+            : integrate_embedded_runge_kutta(increment, y, integrator_, record);
   if (!result.ok) return result;
   state.stress = y.stress;
   state.void_ratio = y.void_ratio;

@@ -34,6 +34,12 @@ class Hypoplastic final : public ConstitutiveModel {
   /// "hypoplastic", "hypoplastic+IGS", with "+stress-dependent" when that option is on.
   std::string name() const override;
   UpdateResult update(MaterialState& state, const Vec6& strain_increment) const override;
+  UpdateResult update_recording(MaterialState& state, const Vec6& strain_increment,
+                                SubstepPath& path) const override;
+  /// Along the path if it is replayable and stays inside the domain (the end point to the last
+  /// bit that of update_recording for the same state and increment), else update().
+  UpdateResult update_along(MaterialState& state, const Vec6& strain_increment,
+                            const SubstepPath& path) const override;
   Mat6 tangent(const MaterialState& state, const Vec6& strain_direction) const override;
   double wave_modulus(const MaterialState& state) const override;
   /// "intergranular_strain" (a tensor, zero without intergranular strain).
@@ -89,6 +95,10 @@ class Hypoplastic final : public ConstitutiveModel {
   void restore_bounds(Point& y, UpdateResult& result, const BauerFactor* nearby = nullptr) const;
   bool void_ratio_clearly_inside_band(const Point& y, const BauerFactor& nearby) const;
   void set_to_floor(Point& y) const;
+  // update(), update_recording() and update_along(): integrates from the state, adaptively
+  // (recording into `record` if given) or along `along`.
+  UpdateResult integrate(MaterialState& state, const Vec6& strain_increment, SubstepPath* record,
+                         const SubstepPath* along) const;
 
   HypoplasticParameters parameters_;
   IntergranularStrainParameters intergranular_;
