@@ -18,6 +18,7 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
+#include "pilempm/io/mpm_case_writer.hpp"
 
 namespace pilempm {
 namespace {
@@ -200,6 +201,30 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheContactSmoothing) {
                  "solver.contact_smoothing", "[0, 1]");
   expect_refused(kMohrCoulomb + std::string("[solver]\ncontact_smoothing = 0.1\n"),
                  "contact_smoothing", "solver.contact_smoothing", "quasi-static");
+}
+
+// The rate integrator: Bogacki-Shampine by default in the quasi-static analysis, Heun-Euler in the
+// explicit one, and what [integrator] names in either; the MPM case written keeps it.
+TEST(CentrifugeCaseModels, TheIntegratorSchemeDefaultsByAnalysis) {
+  using Scheme = IntegratorSettings::Scheme;
+  const auto scheme = [](const std::string& text) {
+    const CentrifugeScenario s = read_centrifuge_case_text(text, "case.toml");
+    const Scheme written =
+        read_mpm_case_text(mpm_case_text(centrifuge_to_mpm_case(s, "m.toml")), "m.toml")
+            .integrator.scheme;
+    EXPECT_EQ(written, s.integrator.scheme);
+    return s.integrator.scheme;
+  };
+  EXPECT_EQ(scheme(kMohrCoulomb), Scheme::heun_euler);
+  EXPECT_EQ(scheme(quasi_static(kMohrCoulomb)), Scheme::bogacki_shampine);
+  const std::string heun = "[integrator]\nscheme = \"heun-euler\"\ntolerance = 1e-4\n";
+  EXPECT_EQ(scheme(quasi_static(kMohrCoulomb) + heun), Scheme::heun_euler);
+  const CentrifugeScenario tighter = read_centrifuge_case_text(
+      quasi_static(kMohrCoulomb) + "[integrator]\ntolerance = 1e-4\n", "case.toml");
+  EXPECT_EQ(tighter.integrator.scheme, Scheme::bogacki_shampine);
+  EXPECT_EQ(tighter.integrator.tolerance, 1e-4);
+  EXPECT_EQ(scheme(kMohrCoulomb + "[integrator]\nscheme = \"bogacki-shampine\"\n"),
+            Scheme::bogacki_shampine);
 }
 
 TEST(CentrifugeCaseModels, KeysOfTheExplicitAnalysisAreErrorsInAQuasiStaticCase) {

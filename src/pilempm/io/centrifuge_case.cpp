@@ -29,20 +29,21 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   CentrifugeScenario s;
   s.title = root.optional_string("title").value_or(s.title);
 
-  // Materials first: the sand may name one of them.
-  MaterialCatalog catalog;
-  catalog.read(root);
-  for (const std::string& name : catalog.names())
-    if (const MaterialSpec* material = catalog.find(name); !material->builtin)
-      s.materials.push_back(*material);
-  s.integrator = catalog.integrator();
-
-  // The analysis first: it decides which keys of the other tables apply.
+  // The analysis first: it decides which keys of the other tables apply, and the integrator's
+  // defaults.
   if (auto t = root.table("solver"))
     if (t->optional_choice("analysis", {"explicit", "quasi-static"}).value_or("explicit") ==
         "quasi-static")
       s.analysis = simulation::MpmAnalysis::quasi_static;
   const bool quasi_static = s.analysis == simulation::MpmAnalysis::quasi_static;
+
+  // Then the materials: the sand may name one of them.
+  MaterialCatalog catalog;
+  catalog.read(root, simulation::default_integrator(s.analysis));
+  for (const std::string& name : catalog.names())
+    if (const MaterialSpec* material = catalog.find(name); !material->builtin)
+      s.materials.push_back(*material);
+  s.integrator = catalog.integrator();
   // A key of the explicit analysis in a quasi-static case.
   auto refuse_explicit = [&](TableReader& t, const char* key) {
     if (quasi_static && t.contains(key))

@@ -25,8 +25,8 @@ IgsChoice read_igs(TableReader& reader, std::string_view key) {
   return read_igs(static_cast<ParameterSource&>(source), key);
 }
 
-IntegratorSettings read_integrator(TableReader& t) {
-  IntegratorSettings s;
+IntegratorSettings read_integrator(TableReader& t, const IntegratorSettings& defaults) {
+  IntegratorSettings s = defaults;
   if (auto scheme = t.optional_choice("scheme", {"heun-euler", "bogacki-shampine"}))
     s.scheme = parse_integrator_scheme(*scheme, "scheme");
   s.tolerance = t.number_or("tolerance", s.tolerance, NumberRange::left_open(0.0, 0.1));
@@ -49,8 +49,10 @@ std::vector<MaterialSpec> MaterialCatalog::default_builtins() {
   return result;
 }
 
-void MaterialCatalog::read(TableReader& root) {
-  if (auto integrator = root.table("integrator")) integrator_ = read_integrator(*integrator);
+void MaterialCatalog::read(TableReader& root, const IntegratorSettings& integrator_defaults) {
+  integrator_ = integrator_defaults;
+  if (auto integrator = root.table("integrator"))
+    integrator_ = read_integrator(*integrator, integrator_defaults);
   for (TableReader& t : root.tables("material")) {
     MaterialSpec m;
     if (!t.contains("name")) (void)t.string("name");  // the error for a missing name

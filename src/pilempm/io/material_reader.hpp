@@ -69,15 +69,16 @@ class TomlParameterSource final : public ParameterSource {
 };
 
 /// Reads an [integrator] table: scheme, tolerance, min_mean_stress_Pa, fixed_substeps,
-/// max_substeps, min_substep (all optional; the library's defaults otherwise).
-IntegratorSettings read_integrator(TableReader& table);
+/// max_substeps, min_substep (all optional; `defaults` otherwise).
+IntegratorSettings read_integrator(TableReader& table, const IntegratorSettings& defaults = {});
 
 /// The materials of one document: its [[material]] tables plus the built-in sets, and its
 /// [integrator] settings.
 class MaterialCatalog {
  public:
-  /// Reads the root's "material" array of tables and "integrator" table (both optional).
-  void read(TableReader& root);
+  /// Reads the root's "material" array of tables and "integrator" table (both optional; what the
+  /// latter does not set is taken from `integrator_defaults`).
+  void read(TableReader& root, const IntegratorSettings& integrator_defaults = {});
 
   /// A [[material]] of the document, or else a built-in set; nullptr when neither.
   const MaterialSpec* find(std::string_view name) const;

@@ -423,7 +423,7 @@ MpmCase read_mpm_case_text(std::string_view text, const std::string& source_name
   }
 
   MaterialCatalog catalog;
-  catalog.read(root);
+  catalog.read(root, default_integrator(c.analysis));
   c.integrator = catalog.integrator();
   c.materials = catalog.materials();
 

@@ -184,4 +184,11 @@ std::string_view to_string(MpmAnalysis analysis) {
   return analysis == MpmAnalysis::quasi_static ? "quasi-static" : "explicit";
 }
 
+IntegratorSettings default_integrator(MpmAnalysis analysis) {
+  IntegratorSettings settings;
+  if (analysis == MpmAnalysis::quasi_static)
+    settings.scheme = IntegratorSettings::Scheme::bogacki_shampine;
+  return settings;
+}
+
 }  // namespace pilempm::simulation

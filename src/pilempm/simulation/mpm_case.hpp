@@ -180,6 +180,13 @@ enum class MpmAnalysis {
 /// "explicit" or "quasi-static".
 std::string_view to_string(MpmAnalysis analysis);
 
+/// The rate integrator's settings where a case's [integrator] does not say: the library's
+/// defaults (Heun-Euler) for the explicit analysis, whose time steps are small strain increments
+/// that one 2-stage sub-step integrates; Bogacki-Shampine for the quasi-static one, whose load
+/// steps are increments of up to several per cent, where the 3rd-order pair needs fewer
+/// sub-steps at the same tolerance (docs/quasi-static.md, "The sand model's integration").
+IntegratorSettings default_integrator(MpmAnalysis analysis);
+
 struct MpmCase {
   std::string source;  ///< the file name used in messages
   std::string title;

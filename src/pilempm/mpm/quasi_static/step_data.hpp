@@ -116,6 +116,7 @@ struct QuasiStaticSolver::StepSetup {
 // The results of evaluating one iterate.
 struct QuasiStaticSolver::Trial {
   std::vector<MaterialState> state;
+  std::vector<SubstepPath> path;  // the sub-steps of each state's update (the tangent's probes)
   std::vector<Vec6> strain_increment;
   std::vector<Mat2> gradient;  // G = Σ Δu_i ⊗ ∇S_i
   std::vector<double> hoop;

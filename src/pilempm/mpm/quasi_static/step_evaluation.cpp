@@ -47,6 +47,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       if (d >= 0) trial.node_displacement[std::size_t(n)][c] = du[std::size_t(d)];
     }
   trial.state.resize(std::size_t(count));
+  trial.path.resize(std::size_t(count));
   trial.on_floor.resize(std::size_t(count));
   trial.strain_increment.resize(std::size_t(count));
   trial.gradient.resize(std::size_t(count));
@@ -101,7 +102,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     MaterialState& state = trial.state[std::size_t(i)];
     if (!reuse_states) {
       state = rotated;
-      const UpdateResult update = model.update(state, strain);
+      const UpdateResult update = model.update_recording(state, strain, trial.path[std::size_t(i)]);
       if (!update.ok) {
         failed = true;
 #pragma omp critical(quasi_static_failed_update)
@@ -139,14 +140,17 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       d = in_plane(model.tangent(state, strain));
       continue;
     }
-    // Fellin & Ostermann (2002): forward differences of the integrated update.
+    // Fellin & Ostermann (2002): forward differences of the integrated update, the probes along
+    // the sub-steps the update took (SubstepPath: the quotient is then the derivative of one
+    // smooth map, and the probes need no error control).
+    const SubstepPath& path = trial.path[std::size_t(i)];
     const double h = settings_.perturbation * std::max(strain.norm(), 1.0e-6);
     for (int c = 0; c < used_columns; ++c) {
       const int dc = used_column[c];
       Vec6 perturbed = strain;
       perturbed[kComponents[dc]] += h;
       MaterialState probe = rotated;
-      if (!model.update(probe, perturbed).ok) {  // a probe beyond the model's domain
+      if (!model.update_along(probe, perturbed, path).ok) {  // beyond the model's domain
         elastic_fallback();
         break;
       }
