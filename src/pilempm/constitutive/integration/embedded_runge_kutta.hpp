@@ -96,17 +96,69 @@ concept RungeKuttaProblem = requires(const Problem& problem, typename Problem::P
 /// The part of a scheme's stability interval the adaptive sub-steps use (see Stability above).
 inline constexpr double kStabilityFraction = 0.8;
 
+namespace detail {
+
+// The stages of one sub-step of either scheme, shared by the adaptive integration and the replay
+// of a recorded path (so that both take a sub-step with the same arithmetic, to the last bit).
+template <RungeKuttaProblem Problem>
+struct RungeKuttaStages {
+  typename Problem::Point k1, k2, k3, k4, trial, low;
+  typename Problem::Hint nearby{};  // of the last rate evaluation, close to the end point
+
+  // From y (k1 its rate) over h: the higher-order end point into `trial` (and, for
+  // Bogacki-Shampine, its rate into k4). False where a stage leaves the domain. With `error`,
+  // the norm of the embedded estimate of the local error.
+  bool step(const Problem& problem, const typename Problem::Point& y, double h, bool heun,
+            double* error) {
+    if (heun) {
+      // Modified Euler: y1 = y + h k1 (1st order), y2 = y + h/2 (k1 + k2) (2nd order).
+      trial.assign_step(y, h, k1);
+      if (!problem.admissible(trial)) return false;
+      nearby = problem.rate(trial, k2);
+      trial.assign_step(y, 0.5 * h, k1);
+      trial.add(0.5 * h, k2);
+      if (!problem.admissible(trial)) return false;
+      if (error) {
+        low.assign_scaled_difference(0.5 * h, k2, k1);
+        *error = problem.error_norm(low, trial);
+      }
+      return true;
+    }
+    // Bogacki & Shampine (1989) RK3(2): c = (0, 1/2, 3/4, 1), FSAL.
+    trial.assign_step(y, 0.5 * h, k1);
+    if (!problem.admissible(trial)) return false;
+    problem.rate(trial, k2);
+    trial.assign_step(y, 0.75 * h, k2);
+    if (!problem.admissible(trial)) return false;
+    problem.rate(trial, k3);
+    trial.assign_step(y, 2.0 / 9.0 * h, k1);
+    trial.add(1.0 / 3.0 * h, k2);
+    trial.add(4.0 / 9.0 * h, k3);
+    if (!problem.admissible(trial)) return false;
+    nearby = problem.rate(trial, k4);
+    if (error) {
+      // y3 - y2 with the 2nd-order weights (7/24, 1/4, 1/3, 1/8).
+      const double w1 = 2.0 / 9.0 - 7.0 / 24.0, w2 = 1.0 / 3.0 - 0.25, w3 = 4.0 / 9.0 - 1.0 / 3.0,
+                   w4 = -0.125;
+      low.assign_combination(h, w1, k1, w2, k2, w3, k3, w4, k4);
+      *error = problem.error_norm(low, trial);
+    }
+    return true;
+  }
+};
+
+}  // namespace detail
+
 /// Integrates the problem's rates from y over t in [0, 1] with the settings' scheme; y becomes
 /// the end point. On failure (UpdateResult::ok false) y is left wherever the integration stopped:
 /// the caller keeps its own copy of the start. With `record`, the accepted sub-steps go into it
-/// (not replayable if the point reached the edge of the domain or the path is longer than its
-/// capacity).
+/// (not replayable if the point reached the edge of the domain or the path has more runs than
+/// SubstepPath holds).
 template <RungeKuttaProblem Problem>
 UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Problem::Point& y,
                                             const IntegratorSettings& settings,
                                             SubstepPath* record = nullptr) {
   using Point = typename Problem::Point;
-  using Hint = typename Problem::Hint;
   UpdateResult result;
   if (record) {
     record->clear();
@@ -129,8 +181,8 @@ UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Pro
                                              : std::numeric_limits<double>::infinity();
   double t = 0.0;
   double h = adaptive ? 1.0 : 1.0 / settings.fixed_substeps;
-  Point k1, k2, k3, k4, trial, low;
-  Hint nearby{};  // at the last evaluation, close to the point accepted next
+  detail::RungeKuttaStages<Problem> stages;
+  Point &k1 = stages.k1, &trial = stages.trial;
   bool k1_valid = false;
   int attempts = 0;
   while (t < 1.0) {
@@ -143,46 +195,7 @@ UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Pro
     if (adaptive) h = std::min(h, stable_step);
     if (!k1_valid) problem.rate(y, k1);
     double error = 0.0;
-    bool inside = true;
-    if (heun) {
-      // Modified Euler: y1 = y + h k1 (1st order), y2 = y + h/2 (k1 + k2) (2nd order).
-      trial.assign_step(y, h, k1);
-      inside = problem.admissible(trial);
-      if (inside) {
-        nearby = problem.rate(trial, k2);
-        trial.assign_step(y, 0.5 * h, k1);
-        trial.add(0.5 * h, k2);
-        inside = problem.admissible(trial);
-        if (inside && adaptive) {
-          low.assign_scaled_difference(0.5 * h, k2, k1);
-          error = problem.error_norm(low, trial);
-        }
-      }
-    } else {
-      // Bogacki & Shampine (1989) RK3(2): c = (0, 1/2, 3/4, 1), FSAL.
-      trial.assign_step(y, 0.5 * h, k1);
-      inside = problem.admissible(trial);
-      if (inside) {
-        problem.rate(trial, k2);
-        trial.assign_step(y, 0.75 * h, k2);
-        inside = problem.admissible(trial);
-      }
-      if (inside) {
-        problem.rate(trial, k3);
-        trial.assign_step(y, 2.0 / 9.0 * h, k1);
-        trial.add(1.0 / 3.0 * h, k2);
-        trial.add(4.0 / 9.0 * h, k3);
-        inside = problem.admissible(trial);
-        if (inside) nearby = problem.rate(trial, k4);
-        if (inside && adaptive) {
-          // y3 - y2 with the 2nd-order weights (7/24, 1/4, 1/3, 1/8).
-          const double w1 = 2.0 / 9.0 - 7.0 / 24.0, w2 = 1.0 / 3.0 - 0.25,
-                       w3 = 4.0 / 9.0 - 1.0 / 3.0, w4 = -0.125;
-          low.assign_combination(h, w1, k1, w2, k2, w3, k3, w4, k4);
-          error = problem.error_norm(low, trial);
-        }
-      }
-    }
+    const bool inside = stages.step(problem, y, h, heun, adaptive ? &error : nullptr);
 
     if (!inside) {
       if (h > settings.min_substep) {  // approach the edge of the domain with smaller steps
@@ -226,12 +239,12 @@ UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Pro
     // Accept.
     if (record) record->append(h);
     y = trial;
-    problem.restore_bounds(y, result, &nearby);
+    problem.restore_bounds(y, result, &stages.nearby);
     t += h;
     ++result.substeps;
     // FSAL: k4 is the rate at the accepted point unless the bounds moved it.
     if (!heun && y == trial) {
-      k1 = k4;
+      k1 = stages.k4;
       k1_valid = true;
     } else {
       k1_valid = false;
@@ -252,8 +265,6 @@ template <RungeKuttaProblem Problem>
 UpdateResult replay_embedded_runge_kutta(const Problem& problem, typename Problem::Point& y,
                                          const IntegratorSettings& settings,
                                          const SubstepPath& path) {
-  using Point = typename Problem::Point;
-  using Hint = typename Problem::Hint;
   UpdateResult result;
   const auto leave = [&result] {
     result.ok = false;
@@ -262,40 +273,18 @@ UpdateResult replay_embedded_runge_kutta(const Problem& problem, typename Proble
   };
   if (!path.replayable || !problem.admissible(y)) return leave();
   const bool heun = settings.scheme == IntegratorSettings::Scheme::heun_euler;
-  Point k1, k2, k3, k4, trial;
-  Hint nearby{};
+  detail::RungeKuttaStages<Problem> stages;
   bool k1_valid = false;
-  for (int j = 0, run = 0, left = 0; run < path.runs; ++j) {
-    if (left == 0) left = path.repeat[std::size_t(run)];
-    const double h = path.step[std::size_t(run)];
-    if (--left == 0) ++run;
-    if (!k1_valid) problem.rate(y, k1);
-    if (heun) {
-      trial.assign_step(y, h, k1);
-      if (!problem.admissible(trial)) return leave();
-      nearby = problem.rate(trial, k2);
-      trial.assign_step(y, 0.5 * h, k1);
-      trial.add(0.5 * h, k2);
-      if (!problem.admissible(trial)) return leave();
-    } else {
-      trial.assign_step(y, 0.5 * h, k1);
-      if (!problem.admissible(trial)) return leave();
-      problem.rate(trial, k2);
-      trial.assign_step(y, 0.75 * h, k2);
-      if (!problem.admissible(trial)) return leave();
-      problem.rate(trial, k3);
-      trial.assign_step(y, 2.0 / 9.0 * h, k1);
-      trial.add(1.0 / 3.0 * h, k2);
-      trial.add(4.0 / 9.0 * h, k3);
-      if (!problem.admissible(trial)) return leave();
-      nearby = problem.rate(trial, k4);
+  for (int run = 0; run < path.runs; ++run)
+    for (int j = 0; j < path.repeat[std::size_t(run)]; ++j) {
+      if (!k1_valid) problem.rate(y, stages.k1);
+      if (!stages.step(problem, y, path.step[std::size_t(run)], heun, nullptr)) return leave();
+      y = stages.trial;
+      problem.restore_bounds(y, result, &stages.nearby);
+      ++result.substeps;
+      k1_valid = !heun && y == stages.trial;  // FSAL, as in the adaptive integration
+      if (k1_valid) stages.k1 = stages.k4;
     }
-    y = trial;
-    problem.restore_bounds(y, result, &nearby);
-    ++result.substeps;
-    k1_valid = !heun && y == trial;
-    if (k1_valid) k1 = k4;
-  }
   return result;
 }
 
