@@ -47,6 +47,30 @@ TEST(QuasiStaticContactLaw, StickSlipAndItsStiffnessMatchDifferences) {
   EXPECT_FALSE(penalty_contact(1e-6, n, Vec2::Zero(), Vec2::Zero(), kn, kt, mu).active);
 }
 
+// The penalty's length is the domain's size at creation: a cpGIMP domain squeezed to a sliver
+// (the sand a pile pushes from the axis to its shaft, radial stretch r0 / r) keeps the stiffness
+// per unit of its corner's boundary share, β M / d_p0, and with it the penetration under a given
+// contact stress. With the current size the stiffness grew as 1 / squeeze.
+TEST(QuasiStaticContactLaw, ASqueezedDomainKeepsThePenaltyOfItsSizeAtCreation) {
+  const double beta = 2.0, modulus = 5.0e7, radius = 0.006;
+  const Vec2 initial(7.0e-4, 7.0e-4);
+  for (const double squeeze : {1.0, 0.1, 0.003}) {
+    // A squeeze along x at constant area (F = diag(s, 1/s)): the cpGIMP stretch of the domain.
+    const Mat2 deformation = Vec2(squeeze, 1.0 / squeeze).asDiagonal();
+    const Vec2 half = stretched_half_size(initial, deformation);
+    ASSERT_NEAR(half.x(), squeeze * initial.x(), 1e-12);
+    const double kn = corner_normal_stiffness(beta, modulus, half, initial, radius);
+    const double share = (half.x() + half.y()) * radius;
+    // Per unit of the corner's share of the boundary, as for the square domain.
+    EXPECT_NEAR(kn / share, beta * modulus / (2.0 * initial.x()), 1e-9 * kn / share) << squeeze;
+    // A contact stress of 100 kPa on the share: the penetration σ d_p0 / (β M), whatever the
+    // squeeze.
+    const double sigma = 1.0e5;
+    const double penetration = sigma * share / kn;
+    EXPECT_NEAR(penetration, sigma * 2.0 * initial.x() / (beta * modulus), 1e-15) << squeeze;
+  }
+}
+
 // The smoothed normal force: continuous with its slope at p = 0 and p = δ, the linear law shifted
 // by δ/2 beyond, and the stiffness (stick and slip) its derivative inside the smoothing depth.
 TEST(QuasiStaticContactLaw, TheSmoothedNormalForceIsContinuouslyDifferentiable) {

@@ -17,6 +17,7 @@
 // Its stiffness K = −∂F/∂Δs (for the Newton matrix; the curvature of the surface is neglected):
 //   stick: k n n^T + k_t t t^T;   slip: k n n^T + μ k sign(f_t^trial) t n^T (not symmetric),
 // k = ∂f_n/∂p (k_n p/δ within the smoothing depth, k_n beyond).
+#include <algorithm>
 #include <vector>
 
 #include "pilempm/constitutive/constitutive_model.hpp"
@@ -27,13 +28,14 @@ namespace pilempm::mpm {
 struct ContactSettings {
   /// Penalty factor β: the normal stiffness of a point is k_n = β M_p A_q / d_p, M_p the
   /// particle's constrained modulus (ConstitutiveModel::wave_modulus), A_q the point's share of
-  /// the domain's boundary (l_x + l_y, times r_q in axisymmetry), d_p = 2 min(l_x, l_y) the
-  /// particle size. The penetration under a contact stress σ_c is about σ_c d_p / (β M_p).
+  /// the domain's boundary (l_x + l_y, times r_q in axisymmetry), d_p = 2 min(l_x⁰, l_y⁰) the
+  /// particle's size at creation (see corner_normal_stiffness). The penetration under a contact
+  /// stress σ_c is about σ_c d_p / (β M_p).
   double penalty_factor = 2.0;
   /// k_t = tangential_ratio · k_n.
   double tangential_ratio = 0.1;
-  /// The smoothing depth δ of the normal force, as a fraction of the particle size d_p (0: the
-  /// kinked law f_n = k_n p).
+  /// The smoothing depth δ of the normal force, as a fraction of the particle size d_p (at
+  /// creation, as in k_n; 0: the kinked law f_n = k_n p).
   double smoothing = 0.0;
   /// Points closer than this fraction of the particle size outside the surface carry the stick
   /// stiffness in the first Newton matrix of an increment, without force (see penalty_contact).
@@ -72,6 +74,25 @@ PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_in
                              const Vec2& previous_tangential_force, double normal_stiffness,
                              double tangential_stiffness, double friction, double margin = 0.0,
                              double smoothing = 0.0);
+
+/// The particle size d_p = 2 min(l_x⁰, l_y⁰) of the penalty law: that of the domain at creation,
+/// not the current one. A cpGIMP domain follows the stretch, and the sand that a pile pushes from
+/// the axis to its shaft is squeezed radially to a sliver (radial stretch r₀/r → 0): with the
+/// current size its corners' stiffness grew by the squeeze, without bound, and their smoothing
+/// depth shrank with it; a perturbation of 10⁻⁴ of a Newton step then moved such a corner's
+/// force by newtons on the full model MPM-2 (docs/quasi-static.md, "Contact with the exact
+/// surface").
+inline double penalty_length(const Vec2& initial_half_size) {
+  return 2.0 * std::min(initial_half_size.x(), initial_half_size.y());
+}
+
+/// k_n = β M_c A_q / d_p of a corner at radius (or 1 in plane strain) `lever`: A_q = (l_x + l_y)
+/// lever from the current half-lengths l, d_p from the initial ones (penalty_length).
+inline double corner_normal_stiffness(double penalty_factor, double modulus, const Vec2& half_size,
+                                      const Vec2& initial_half_size, double lever) {
+  return penalty_factor * modulus * (half_size.x() + half_size.y()) * lever /
+         penalty_length(initial_half_size);
+}
 
 /// The penalty modulus M_c of each material (in k_n = β M_c A_q / d_p): the largest wave modulus
 /// of its particles at their current state (0 for a material without particles). Both analyses

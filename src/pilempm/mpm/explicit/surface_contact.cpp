@@ -18,7 +18,8 @@ constexpr int kCorners = 4;  // (-l_x, -l_y), (+l_x, -l_y), (-l_x, +l_y), (+l_x,
 
 // Per particle near a body and per corner q = x_p + (±l_x, ±l_y) (the current GIMP domain):
 //   g, n, part = the body's exact surface query at x_q (g < 0: inside);
-//   k_n = β M_p A_q / d_p, A_q = l_x + l_y (times r_q in axisymmetry), d_p = 2 min(l_x, l_y),
+//   k_n = β M_p A_q / d_p, A_q = l_x + l_y (times r_q in axisymmetry), d_p = 2 min(l_x⁰, l_y⁰)
+//   (the domain at creation: corner_normal_stiffness),
 //   M_p the material's penalty modulus: the largest wave modulus of its particles at the first
 //   step, then fixed (as in the quasi-static solver), k_t = ratio k_n;
 //   Δs = the corner's motion relative to the body since the last step (zero at first touch);
@@ -79,9 +80,9 @@ void Solver::apply_surface_contact(double dt) {
           stencil_ready = true;
           compute_stencil(grid_, settings_.shape_function, x.x(), x.y(), l.x(), l.y(), stencil);
         }
-        const double area = (l.x() + l.y()) * (axisymmetric ? std::abs(corner.x()) : 1.0);
-        const double size = 2.0 * std::min(l.x(), l.y());
-        const double normal_stiffness = beta * modulus * area / size;
+        const double normal_stiffness =
+            corner_normal_stiffness(beta, modulus, l, particles_.initial_half_size[p],
+                                    axisymmetric ? std::abs(corner.x()) : 1.0);
         stiffness += normal_stiffness;
         if (!(hit.distance < 0.0)) continue;
         touched = true;

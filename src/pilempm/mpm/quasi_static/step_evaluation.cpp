@@ -281,8 +281,9 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     const ParticleNodes& pn = setup.nodes[std::size_t(i)];
     const Vec2& x = p.position[std::size_t(i)];
     const Vec2& l = p.half_size[std::size_t(i)];
+    const Vec2& l0 = p.initial_half_size[std::size_t(i)];
     const double modulus = contact_modulus_[std::size_t(p.material[std::size_t(i)])];
-    const double size = 2.0 * std::min(l.x(), l.y());
+    const double size = penalty_length(l0);
     for (int q = 0; q < kCorners; ++q) {
       // The corners are contact points that move with the particle's affine motion (material
       // points of their own, so that a converged gap carries over to the next step unchanged):
@@ -295,13 +296,13 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         coefficient[k] = pn.weight[k] + pn.gradient[k].dot(offset);
         moved += coefficient[k] * trial.node_displacement[std::size_t(pn.node[k])];
       }
-      const double area = (l.x() + l.y()) * (axisymmetric ? std::abs(corner.x()) : 1.0);
-      const double normal_stiffness = settings_.contact.penalty_factor * modulus * area / size;
+      const double normal_stiffness =
+          corner_normal_stiffness(settings_.contact.penalty_factor, modulus, l, l0,
+                                  axisymmetric ? std::abs(corner.x()) : 1.0);
       // Points this close outside keep the stick stiffness in the matrix (see penalty_contact).
       // Only in the first matrix of an increment: later on it would be a spring without force.
       const double margin = first_matrix ? settings_.contact.stiffness_margin * size : 0.0;
       const std::size_t index = std::size_t(i) * kCorners + std::size_t(q);
-      (void)l;
       for (std::size_t body = 0; body < bodies_.size(); ++body) {
         const Vec2 body_move = body < body_step.size() ? body_step[body] : Vec2::Zero();
         const SurfaceQuery hit = setup.surfaces[body].query(corner + moved - body_move);
