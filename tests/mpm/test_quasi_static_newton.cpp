@@ -296,6 +296,44 @@ TEST(QuasiStaticNewton, AStepAboveTheToleranceIsAcceptedBelowTheAcceptToleranceE
   EXPECT_LE(largest, 0.1);
 }
 
+// "Accepted" counts the sub-increments that end above the force tolerance. With an energy
+// tolerance that is never met, every sub-increment ends by accept_after or max_iterations, most
+// with their force balance converged: those are converged, not accepted.
+TEST(QuasiStaticNewton, ASubIncrementWhoseForceHasConvergedIsNotCountedAsAccepted) {
+  PileProblem problem;
+  problem.model = pile_mohr_coulomb_sand();
+  problem.settings.threads = 1;
+  problem.settings.energy_tolerance = 1e-300;
+  QuasiStaticSolver solver = problem.build();
+  LoadStep load;
+  load.gravity_multiplier = problem.gravity_multiplier;
+  const double tolerance = problem.settings.force_tolerance;
+  int force_converged = 0, accepted = 0;
+  for (int step = 0; step <= 10; ++step) {
+    load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
+    const LoadStepResult r = solver.solve_step(load);
+    ASSERT_TRUE(r.converged) << r.message;
+    for (const SubIncrementRecord& sub : r.sub_increments) {
+      if (sub.iterations.empty()) continue;
+      const double ratio = sub.iterations.back().residual_norm / sub.reference_force;
+      if (ratio < 0.5 * tolerance) {
+        ++force_converged;
+        EXPECT_FALSE(sub.accepted) << "step " << step << ": ||R|| / F_ref " << ratio;
+      }
+      if (sub.accepted) {
+        ++accepted;
+        EXPECT_GT(ratio, 0.5 * tolerance);
+      }
+    }
+    EXPECT_EQ(r.accepted,
+              int(std::count_if(r.sub_increments.begin(), r.sub_increments.end(),
+                                [](const SubIncrementRecord& s) { return s.accepted; })));
+  }
+  std::printf("%d sub-increments ended with their force converged, %d accepted above it\n",
+              force_converged, accepted);
+  EXPECT_GT(force_converged, 0);  // the case this test is about occurred
+}
+
 // accept_after: from that iteration on, a sub-increment below accept_tolerance ends at once.
 TEST(QuasiStaticNewton, AcceptAfterEndsASubIncrementOnceBelowTheAcceptTolerance) {
   struct Push {
@@ -321,6 +359,10 @@ TEST(QuasiStaticNewton, AcceptAfterEndsASubIncrementOnceBelowTheAcceptTolerance)
       for (const SubIncrementRecord& sub : r.sub_increments) {
         if (!sub.accepted) continue;
         const int n = int(sub.iterations.size());
+        // Accepted means above the force tolerance (a sub-increment whose force balance has
+        // converged but not its energy norm is converged, not accepted).
+        EXPECT_GT(sub.iterations.back().residual_norm,
+                  0.5 * problem.settings.force_tolerance * sub.reference_force);
         // Accepted only at or after accept_after (or at max_iterations without it).
         EXPECT_GE(n, accept_after > 0 ? accept_after : problem.settings.max_iterations);
         if (n < problem.settings.max_iterations) result.early = true;

@@ -289,9 +289,14 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   }
   const double ratio = trial.residual.norm() / std::max(trial.reference_force, 1.0e-300);
   if (ratio <= settings_.accept_tolerance) {
-    record.converged = record.accepted = true;
-    ++result.accepted;
-    result.largest_accepted_residual = std::max(result.largest_accepted_residual, ratio);
+    record.converged = true;
+    // Accepted above the force tolerance; at or below it only the energy norm had not converged,
+    // and the sub-increment is not counted as accepted (its force balance is converged).
+    record.accepted = ratio > settings_.force_tolerance;
+    if (record.accepted) {
+      ++result.accepted;
+      result.largest_accepted_residual = std::max(result.largest_accepted_residual, ratio);
+    }
     commit(setup, du, trial, gravity, traction, body_step);
     return true;
   }
