@@ -59,7 +59,7 @@ TEST(QuasiStaticContactLaw, ASqueezedDomainKeepsThePenaltyOfItsSizeAtCreation) {
     const Mat2 deformation = Vec2(squeeze, 1.0 / squeeze).asDiagonal();
     const Vec2 half = stretched_half_size(initial, deformation);
     ASSERT_NEAR(half.x(), squeeze * initial.x(), 1e-12);
-    const double kn = corner_normal_stiffness(beta, modulus, half, initial, radius);
+    const double kn = corner_normal_stiffness(beta, modulus, half, penalty_length(initial), radius);
     const double share = (half.x() + half.y()) * radius;
     // Per unit of the corner's share of the boundary, as for the square domain.
     EXPECT_NEAR(kn / share, beta * modulus / (2.0 * initial.x()), 1e-9 * kn / share) << squeeze;

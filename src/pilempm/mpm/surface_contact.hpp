@@ -87,11 +87,11 @@ inline double penalty_length(const Vec2& initial_half_size) {
 }
 
 /// k_n = β M_c A_q / d_p of a corner at radius (or 1 in plane strain) `lever`: A_q = (l_x + l_y)
-/// lever from the current half-lengths l, d_p from the initial ones (penalty_length).
+/// lever from the current half-lengths l, d_p = penalty_length() of the initial ones (passed in:
+/// the caller needs it for the smoothing depth too).
 inline double corner_normal_stiffness(double penalty_factor, double modulus, const Vec2& half_size,
-                                      const Vec2& initial_half_size, double lever) {
-  return penalty_factor * modulus * (half_size.x() + half_size.y()) * lever /
-         penalty_length(initial_half_size);
+                                      double length, double lever) {
+  return penalty_factor * modulus * (half_size.x() + half_size.y()) * lever / length;
 }
 
 /// The penalty modulus M_c of each material (in k_n = β M_c A_q / d_p): the largest wave modulus

@@ -59,6 +59,7 @@ void Solver::apply_surface_contact(double dt) {
     const Vec2& x = particles_.position[p];
     const Vec2& l = particles_.half_size[p];
     const double modulus = surface_contact_modulus_[std::size_t(particles_.material[p])];
+    const double size = penalty_length(particles_.initial_half_size[p]);
     double stiffness = 0.0;  // Σ k_n of the corners near a body
     bool stencil_ready = false;
     Stencil stencil;
@@ -80,9 +81,8 @@ void Solver::apply_surface_contact(double dt) {
           stencil_ready = true;
           compute_stencil(grid_, settings_.shape_function, x.x(), x.y(), l.x(), l.y(), stencil);
         }
-        const double normal_stiffness =
-            corner_normal_stiffness(beta, modulus, l, particles_.initial_half_size[p],
-                                    axisymmetric ? std::abs(corner.x()) : 1.0);
+        const double normal_stiffness = corner_normal_stiffness(
+            beta, modulus, l, size, axisymmetric ? std::abs(corner.x()) : 1.0);
         stiffness += normal_stiffness;
         if (!(hit.distance < 0.0)) continue;
         touched = true;

@@ -281,9 +281,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     const ParticleNodes& pn = setup.nodes[std::size_t(i)];
     const Vec2& x = p.position[std::size_t(i)];
     const Vec2& l = p.half_size[std::size_t(i)];
-    const Vec2& l0 = p.initial_half_size[std::size_t(i)];
     const double modulus = contact_modulus_[std::size_t(p.material[std::size_t(i)])];
-    const double size = penalty_length(l0);
+    const double size = penalty_length(p.initial_half_size[std::size_t(i)]);
     for (int q = 0; q < kCorners; ++q) {
       // The corners are contact points that move with the particle's affine motion (material
       // points of their own, so that a converged gap carries over to the next step unchanged):
@@ -297,7 +296,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         moved += coefficient[k] * trial.node_displacement[std::size_t(pn.node[k])];
       }
       const double normal_stiffness =
-          corner_normal_stiffness(settings_.contact.penalty_factor, modulus, l, l0,
+          corner_normal_stiffness(settings_.contact.penalty_factor, modulus, l, size,
                                   axisymmetric ? std::abs(corner.x()) : 1.0);
       // Points this close outside keep the stick stiffness in the matrix (see penalty_contact).
       // Only in the first matrix of an increment: later on it would be a spring without force.
