@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "../support/mpm_builders.hpp"
@@ -116,7 +117,8 @@ TEST(QuasiStaticLame, AxisymmetricCylinderMatchesLameAndConverges) {
 // with an elastic-plastic boundary inside. With the consistent (perturbation) tangent the residual
 // falls quadratically (r_(k+1) <= C r_k² with the error at the start of the last iterations);
 // with the elastic tangent (modified Newton) it falls linearly and needs many more iterations.
-std::vector<double> mohr_coulomb_column_residuals(TangentKind tangent, int& iterations) {
+std::vector<double> mohr_coulomb_column_residuals(TangentKind tangent, int& iterations,
+                                                  std::FILE* trace = nullptr) {
   const int cells = 16;
   const double h = 1.0 / cells;
   Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2), GridAxis::uniform(0.0, 1.0 + 2.0 * h, cells + 2));
@@ -134,6 +136,7 @@ std::vector<double> mohr_coulomb_column_residuals(TangentKind tangent, int& iter
   settings.force_tolerance = 1e-10;
   settings.energy_tolerance = 1e-20;
   settings.max_cuts = 0;
+  settings.trace = trace;
   QuasiStaticSolver solver(std::move(grid), std::move(particles),
                            {std::make_shared<MohrCoulomb>(mc)}, settings);
   LoadStep load;
@@ -180,6 +183,38 @@ TEST(QuasiStaticNewton, MohrCoulombConvergesQuadraticallyWithTheConsistentTangen
     ++quadratic_checks;
   }
   EXPECT_GE(quadratic_checks, 1);
+}
+
+// The diagnostic trace (Settings::trace, PILEMPM_NEWTON_TRACE in a run): a header per
+// sub-increment, then a line per iteration from 0 (the start) with ||R|| as recorded.
+TEST(QuasiStaticNewton, TheTraceHasALinePerIterationWithTheRecordedResidual) {
+  std::FILE* file = std::tmpfile();
+  ASSERT_NE(file, nullptr);
+  int iterations = 0;
+  const std::vector<double> relative =
+      mohr_coulomb_column_residuals(TangentKind::perturbation, iterations, file);
+  std::rewind(file);
+  std::vector<std::string> lines;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, file) != nullptr) lines.emplace_back(buffer);
+  std::fclose(file);
+  ASSERT_EQ(lines.size(), relative.size() + 1);  // the header, then iterations 0..n
+  double first = 1.0;
+  EXPECT_EQ(lines[0].rfind("newton: step 1, sub-increment 1 of it, ", 0), 0u) << lines[0];
+  for (std::size_t k = 0; k < relative.size(); ++k) {
+    const std::string& line = lines[k + 1];
+    int number = -1;
+    double norm = -1.0;
+    ASSERT_EQ(std::sscanf(line.c_str(), "newton: it %d ||R|| %lf N", &number, &norm), 2) << line;
+    EXPECT_EQ(number, int(k));
+    if (k == 0) first = norm;
+    // The record's ||R|| over its reference force, against the trace's over the same force.
+    EXPECT_NEAR(norm / first, relative[k] / relative[0], 1e-5 * relative[k] / relative[0]) << line;
+    EXPECT_NE(line.find("largest R "), std::string::npos) << line;
+    if (k > 0) {
+      EXPECT_NE(line.find("largest step "), std::string::npos) << line;
+    }
+  }
 }
 
 // Hypoplasticity with intergranular strain ("original" set, IGS3, e = 0.68): a sand column in its

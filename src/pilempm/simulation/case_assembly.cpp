@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
 #include "pilempm/constitutive/hypoplastic/hypoplastic_parameters.hpp"
@@ -159,6 +161,9 @@ mpm::quasi_static::Settings quasi_static_settings(const MpmCase& c) {
   s.gravity = c.solver.gravity;
   s.threads = c.solver.threads;
   s.volumetric_averaging = c.solver.volumetric_smoothing;
+  // A diagnostic, not a setting of the case: a line per Newton iteration on stderr.
+  const char* trace = std::getenv("PILEMPM_NEWTON_TRACE");
+  if (trace != nullptr && *trace != '\0' && std::string_view(trace) != "0") s.trace = stderr;
   return s;
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "pilempm/core/error.hpp"
@@ -190,6 +191,54 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     return true;
   }
 
+  // The diagnostic line of an iteration (Settings::trace): the largest component of the
+  // residual and of the Newton step, with their nodes.
+  std::vector<std::pair<int, int>> unknown_node;  // per unknown: node, component
+  if (settings_.trace != nullptr) {
+    unknown_node.resize(std::size_t(setup.unknowns));
+    for (std::size_t c = 0; c < setup.dof.size(); ++c)
+      if (setup.dof[c] >= 0) unknown_node[std::size_t(setup.dof[c])] = {int(c / 2), int(c % 2)};
+  }
+  const auto trace_line = [&](int iteration, const Eigen::VectorXd& step, double length,
+                              const IterationRecord& r) {
+    const auto where = [&](Eigen::Index d) {
+      const auto [node, component] = unknown_node[std::size_t(d)];
+      const Vec2 x(grid_.x_axis().node(node % grid_.nx()), grid_.y_axis().node(node / grid_.nx()));
+      const std::size_t c = 2 * std::size_t(node) + std::size_t(component);
+      return fmt::format("{} at ({:.5g}, {:.5g}) m (int {:.3g}, ext {:.3g}, contact {:.3g} N)",
+                         component == 0 ? "x" : "y", x.x(), x.y(), trial.internal[c],
+                         trial.external[c], trial.contact[c]);
+    };
+    Eigen::Index worst = 0;
+    std::string text = fmt::format(
+        "newton: it {:2d} ||R|| {:.6e} N = {:.3e} F_ref, line {:.4g}, contacts {} slip {} changed "
+        "{}, floor {}",
+        iteration, r.residual_norm, r.residual_norm / std::max(trial.reference_force, 1e-300),
+        length, r.contact_points, r.slipping_points, r.contact_changes, r.floor_particles);
+    if (trial.residual.size() > 0) {
+      const double largest = trial.residual.cwiseAbs().maxCoeff(&worst);
+      text += fmt::format("; largest R {:.3g} N {}", largest, where(worst));
+    }
+    if (step.size() > 0) {
+      const double largest = step.cwiseAbs().maxCoeff(&worst);
+      text += fmt::format("; largest step {:.3g} cells {}", largest / grid_.min_spacing(),
+                          where(worst));
+    }
+    std::fprintf(settings_.trace, "%s\n", text.c_str());
+  };
+
+  if (settings_.trace != nullptr) {
+    IterationRecord start;
+    start.residual_norm = trial.residual.norm();
+    start.floor_particles = trial.floor_particles;
+    for (const PointContact& point : trial.corner) {
+      start.contact_points += point.active ? 1 : 0;
+      start.slipping_points += point.slip ? 1 : 0;
+    }
+    std::fprintf(settings_.trace, "newton: step %ld, sub-increment %.6g of it, %d unknowns\n",
+                 steps_ + 1, fraction, setup.unknowns);
+    trace_line(0, Eigen::VectorXd(), 0.0, start);
+  }
   SparseMatrix matrix = setup.pattern;
   double first_energy = 0.0;
   for (int iteration = 1; iteration <= settings_.max_iterations; ++iteration) {
@@ -270,6 +319,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     iteration_record.line_search = length;
     if (iteration == 1) first_energy = energy_before;
     record.iterations.push_back(iteration_record);
+    if (settings_.trace != nullptr) trace_line(iteration, step, length, iteration_record);
     const bool energy_converged =
         iteration_record.energy_norm <= settings_.energy_tolerance * std::max(first_energy, 1e-300);
     if (force_converged(trial) && energy_converged) {

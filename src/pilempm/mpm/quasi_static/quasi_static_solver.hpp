@@ -28,6 +28,7 @@
 // tangential trial force), independent of which grid nodes lie near the surface. See
 // surface_contact.hpp.
 #include <cstddef>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -129,6 +130,11 @@ struct Settings {
   /// docs/quasi-static.md).
   ContactSettings contact = rounded_contact();
   int threads = 0;  ///< OpenMP threads for the particle loops; 0: omp_get_max_threads()
+  /// Where to write a line per Newton iteration (a diagnostic: ||R||, the line search, the
+  /// contact and the stress floor, the largest residual component and Newton step with their
+  /// nodes and forces); nullptr: nowhere. The run loop sets stderr when the environment
+  /// variable PILEMPM_NEWTON_TRACE is set (docs/quasi-static.md, "Convergence").
+  std::FILE* trace = nullptr;
 
   /// Throws InvalidValue naming the first setting out of range.
   void validate() const;
