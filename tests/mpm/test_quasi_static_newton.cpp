@@ -200,7 +200,8 @@ TEST(QuasiStaticNewton, TheTraceHasALinePerIterationWithTheRecordedResidual) {
   std::fclose(file);
   ASSERT_EQ(lines.size(), relative.size() + 1);  // the header, then iterations 0..n
   double first = 1.0;
-  EXPECT_EQ(lines[0].rfind("newton: step 1, sub-increment 1 of it, ", 0), 0u) << lines[0];
+  EXPECT_EQ(lines[0].rfind("newton: step 1, sub-increment 1 of what remains of it, ", 0), 0u)
+      << lines[0];
   for (std::size_t k = 0; k < relative.size(); ++k) {
     const std::string& line = lines[k + 1];
     int number = -1;

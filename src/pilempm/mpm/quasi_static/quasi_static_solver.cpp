@@ -235,7 +235,8 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       start.contact_points += point.active ? 1 : 0;
       start.slipping_points += point.slip ? 1 : 0;
     }
-    std::fprintf(settings_.trace, "newton: step %ld, sub-increment %.6g of it, %d unknowns\n",
+    std::fprintf(settings_.trace,
+                 "newton: step %ld, sub-increment %.6g of what remains of it, %d unknowns\n",
                  steps_ + 1, fraction, setup.unknowns);
     trace_line(0, Eigen::VectorXd(), 0.0, start);
   }
