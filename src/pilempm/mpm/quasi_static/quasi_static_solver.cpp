@@ -16,6 +16,24 @@ namespace pilempm::mpm::quasi_static {
 
 using namespace detail;
 
+namespace {
+
+// The contact counts of an iteration record: the points in contact and slipping at `now`, and
+// those whose state changed from `was` (none when `was` is null: the start of an increment).
+IterationRecord contact_record(const std::vector<PointContact>& now,
+                               const std::vector<PointContact>* was) {
+  IterationRecord record;
+  for (std::size_t c = 0; c < now.size(); ++c) {
+    record.contact_points += now[c].active ? 1 : 0;
+    record.slipping_points += now[c].slip ? 1 : 0;
+    if (was != nullptr && (now[c].active != (*was)[c].active || now[c].slip != (*was)[c].slip))
+      ++record.contact_changes;
+  }
+  return record;
+}
+
+}  // namespace
+
 void Settings::validate() const {
   auto positive = [](double value, const char* key) {
     if (!(value > 0.0) || !std::isfinite(value))
@@ -228,13 +246,9 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   };
 
   if (settings_.trace != nullptr) {
-    IterationRecord start;
+    IterationRecord start = contact_record(trial.corner, nullptr);
     start.residual_norm = trial.residual.norm();
     start.floor_particles = trial.floor_particles;
-    for (const PointContact& point : trial.corner) {
-      start.contact_points += point.active ? 1 : 0;
-      start.slipping_points += point.slip ? 1 : 0;
-    }
     std::fprintf(settings_.trace,
                  "newton: step %ld, sub-increment %.6g of what remains of it, %d unknowns\n",
                  steps_ + 1, fraction, setup.unknowns);
@@ -305,14 +319,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     du.swap(best_du);
     next = std::move(best);
     length = best_length;
-    IterationRecord iteration_record;
-    for (std::size_t c = 0; c < next.corner.size(); ++c) {
-      const PointContact& now = next.corner[c];
-      const PointContact& was = trial.corner[c];
-      iteration_record.contact_points += now.active ? 1 : 0;
-      iteration_record.slipping_points += now.slip ? 1 : 0;
-      if (now.active != was.active || now.slip != was.slip) ++iteration_record.contact_changes;
-    }
+    IterationRecord iteration_record = contact_record(next.corner, &trial.corner);
     trial = std::move(next);
     iteration_record.floor_particles = trial.floor_particles;
     iteration_record.residual_norm = trial.residual.norm();
