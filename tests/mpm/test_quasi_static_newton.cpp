@@ -273,27 +273,33 @@ TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIteratio
 // The Newton matrix is the derivative of the residual: the Mohr-Coulomb pile pushed 0.3 D, then
 // at the next step's predictor, K v against central differences of R along a pseudo-random v,
 // for the material part (the perturbation tangent) and the contact part (the penalty law's
-// stiffness through the corners' affine motion). A wrong sign or a missing term in either part
-// shows as an error of order 1.
+// stiffness through the corners' affine motion), without and with the turning terms of the
+// contact. A wrong sign or a missing term in either part shows as an error of order 1.
 TEST(QuasiStaticNewton, TheMatrixIsTheResidualsDerivativeOnThePilePush) {
-  PileProblem problem;
-  problem.model = pile_mohr_coulomb_sand();
-  QuasiStaticSolver solver = problem.build();
-  LoadStep load;
-  load.gravity_multiplier = problem.gravity_multiplier;
-  for (int step = 0; step <= 6; ++step) {
-    load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
-    ASSERT_TRUE(solver.solve_step(load).converged) << "step " << step;
+  for (const bool turning : {false, true}) {
+    PileProblem problem;
+    problem.model = pile_mohr_coulomb_sand();
+    problem.settings.contact.turning_terms = turning;
+    QuasiStaticSolver solver = problem.build();
+    LoadStep load;
+    load.gravity_multiplier = problem.gravity_multiplier;
+    for (int step = 0; step <= 6; ++step) {
+      load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
+      ASSERT_TRUE(solver.solve_step(load).converged) << "step " << step;
+    }
+    ASSERT_GT(solver.body_force(0).total.y(), 0.0);  // the cone is in the sand
+    const TangentCheck check = solver.check_tangent(load);
+    std::printf(
+        "turning terms %s: matrix against differences: total %.2e, material %.2e, "
+        "contact %.2e (%d unknowns)\n",
+        turning ? "on" : "off", check.total, check.material, check.contact, check.unknowns);
+    EXPECT_LT(check.total, 1e-2);
+    EXPECT_LT(check.material, 1e-2);
+    // Measured: the material 3.0e-4 (2.6e-4 with the turning terms, on its slightly different
+    // path); the contact 1.4e-6 without the turning of the normal at the rounded vertices
+    // (ContactSettings::turning_terms), 1.4e-9 with it.
+    EXPECT_LT(check.contact, turning ? 1e-7 : 1e-4);
   }
-  ASSERT_GT(solver.body_force(0).total.y(), 0.0);  // the cone is in the sand
-  const TangentCheck check = solver.check_tangent(load);
-  std::printf("matrix against differences: total %.2e, material %.2e, contact %.2e (%d unknowns)\n",
-              check.total, check.material, check.contact, check.unknowns);
-  EXPECT_LT(check.total, 1e-2);
-  EXPECT_LT(check.material, 1e-2);
-  // Measured 2.6e-4 and 1.5e-6 (the contact's matrix leaves out the curvature of the rounded
-  // vertices; 1.2e-8 with sharp ones).
-  EXPECT_LT(check.contact, 1e-4);
 }
 
 // Settings::accept_tolerance: with 4 iterations allowed and no cuts, the Mohr-Coulomb pile's

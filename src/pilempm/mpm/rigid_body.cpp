@@ -102,6 +102,8 @@ SurfaceQuery RigidBody::query(const Vec2& point) const {
         result.distance = distance;
         result.normal = distance > 0.0 ? Vec2(offset / distance) : normals_[k];
         result.part = edge_part_[k];
+        const bool at_vertex = !(t > 0.0 && t < 1.0);
+        result.curvature = at_vertex && distance > 0.0 ? 1.0 / distance : 0.0;
       }
     }
   }

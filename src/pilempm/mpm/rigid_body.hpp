@@ -19,6 +19,10 @@ struct SurfaceQuery {
   double distance = 0.0;       ///< signed distance [m]: > 0 outside, < 0 inside
   Vec2 normal = Vec2::Zero();  ///< unit outward normal of the surface nearest the point
   int part = 0;                ///< surface part of that point (index into part_names())
+  /// How fast the normal turns as the point moves along the surface [1/m]: n changes by
+  /// curvature (t · dx) t, t = (−n_y, n_x). 1/distance where the nearest surface point is a
+  /// vertex (the point outside), 0 on a face.
+  double curvature = 0.0;
 };
 
 class RigidBody {

@@ -23,7 +23,7 @@ void ContactSettings::validate() const {
 PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
                              const Vec2& previous_tangential_force, double normal_stiffness,
                              double tangential_stiffness, double friction, double margin,
-                             double smoothing) {
+                             double smoothing, double curvature) {
   PointContact contact;
   const Vec2 tangent(-normal.y(), normal.x());
   if (gap >= 0.0 && gap < margin) {
@@ -49,12 +49,17 @@ PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_in
   if (std::abs(trial) <= limit) {
     contact.tangential_force = trial;
     contact.stiffness += tangential_stiffness * tangent * tangent.transpose();
+    const Vec2 trial_vector = previous_tangential_force - tangential_stiffness * slip_increment;
+    contact.stiffness += curvature * trial_vector.dot(normal) * tangent * tangent.transpose();
   } else {
     contact.slip = true;
     const double sign = trial > 0.0 ? 1.0 : -1.0;
     contact.tangential_force = sign * limit;
     contact.stiffness += sign * friction * normal_slope * tangent * normal.transpose();
   }
+  contact.stiffness += curvature *
+                       (contact.tangential_force * normal - contact.normal_force * tangent) *
+                       tangent.transpose();
   contact.tangential_vector = contact.tangential_force * tangent;
   contact.force = contact.normal_force * normal + contact.tangential_force * tangent;
   return contact;

@@ -14,9 +14,14 @@
 // Contact Mechanics, §5.2, the penalty regularisation of Coulomb's law):
 //   f_t^trial = f_t,n − k_t (Δs · t),   Δs the slip of the point relative to the body over the
 //   step, stick: |f_t^trial| <= μ f_n  ->  f_t = f_t^trial;   slip: f_t = μ f_n sign(f_t^trial).
-// Its stiffness K = −∂F/∂Δs (for the Newton matrix; the curvature of the surface is neglected):
+// Its stiffness K = −∂F/∂Δs (for the Newton matrix):
 //   stick: k n n^T + k_t t t^T;   slip: k n n^T + μ k sign(f_t^trial) t n^T (not symmetric),
-// k = ∂f_n/∂p (k_n p/δ within the smoothing depth, k_n beyond).
+// k = ∂f_n/∂p (k_n p/δ within the smoothing depth, k_n beyond), plus, where the surface is
+// curved (κ: ∂n/∂x = κ t t^T, so ∂t/∂x = −κ n t^T; a rounded vertex), the turning of the force
+// with the normal:
+//   κ (−f_n t t^T + f_t n t^T),   and in stick κ ((f_t,n − k_t Δs) · n) t t^T
+// (the trial force's projection turning with t). The first term is negative: a point pressed
+// onto a convex corner is pushed on along the surface when it moves along it.
 #include <algorithm>
 #include <vector>
 
@@ -44,6 +49,14 @@ struct ContactSettings {
   /// the normal turns continuously around a vertex for penetrated points too (0: sharp, the
   /// default: on the pile, 0.25 made the Newton iterations fail at 0.5 D, docs/quasi-static.md).
   double vertex_radius = 0.0;
+  /// Whether the quasi-static Newton matrix holds the turning of the force with the normal at
+  /// a rounded vertex (the κ terms of penalty_contact). They make the matrix the residual's
+  /// derivative (the contact part of QuasiStaticSolver::check_tangent from 10⁻⁵–10⁻² to 10⁻⁹ on
+  /// the hypoplastic pile) but slow Newton down: their leading part −f_n κ t t^T is a negative
+  /// stiffness along the surface, and the hypoplastic pile push took 1 280 iterations and 6 cuts
+  /// with them against 1 041 and 2 without (the quick case 1 114 and 7 against 988 and 4),
+  /// docs/quasi-static.md. Off: left out, by default.
+  bool turning_terms = false;
 
   /// Throws InvalidValue naming the first setting out of range.
   void validate() const;
@@ -73,7 +86,7 @@ struct PointContact {
 PointContact penalty_contact(double gap, const Vec2& normal, const Vec2& slip_increment,
                              const Vec2& previous_tangential_force, double normal_stiffness,
                              double tangential_stiffness, double friction, double margin = 0.0,
-                             double smoothing = 0.0);
+                             double smoothing = 0.0, double curvature = 0.0);
 
 /// The particle size d_p = 2 min(l_x⁰, l_y⁰) of the penalty law: that of the domain at creation,
 /// not the current one. A cpGIMP domain follows the stretch, and the sand that a pile pushes from

@@ -76,7 +76,7 @@ struct RoundedSurface {
 
   SurfaceQuery query(const Vec2& point) const {
     SurfaceQuery result = inner.query(axisymmetric ? Vec2(std::abs(point.x()), point.y()) : point);
-    result.distance -= radius;
+    result.distance -= radius;  // the curvature stays Q's, 1/d_Q: the normal is Q's
     result.part = part[std::size_t(result.part)];
     if (axisymmetric && point.x() < 0.0) result.normal.x() = -result.normal.x();
     return result;

@@ -312,7 +312,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         const PointContact point =
             penalty_contact(hit.distance, hit.normal, moved - body_move, previous, normal_stiffness,
                             settings_.contact.tangential_ratio * normal_stiffness,
-                            bodies_[body].friction(), margin, settings_.contact.smoothing * size);
+                            bodies_[body].friction(), margin, settings_.contact.smoothing * size,
+                            settings_.contact.turning_terms ? hit.curvature : 0.0);
         if (point.active) {
           trial.corner[index] = point;
           trial.corner_body[index] = static_cast<int>(body);
