@@ -191,5 +191,58 @@ TEST(QuasiStaticStabilisation, GhostSpringsBoundTheConditionWithoutLosingLoad) {
   EXPECT_LE(std::abs(ghost.settlement - exact), std::abs(bare.settlement - exact));
 }
 
+// Settings::low_stress_stiffness on the elastic column (8 cells, plane strain) loaded from zero
+// to 0.05 g and then held. Every particle starts stress-free (w = 1) and its stabilising stress
+// η M C:Δε has the material's ν, so in load step 1 the column is elastic with the modulus
+// (1 + η) M and settles u_el / (1 + η); each further step at the same load releases the last
+// step's stabilising stress and sets one for its own increment, so that after n steps the
+// settlement is u_el (1 − r^n), r = η / (1 + η), exactly at the nodes. The stabilising stress is
+// internal: the base carries the weight in every step; its work is booked as damping, η times
+// the strain work in step 1. With p_s below every loaded particle's stress the second
+// step has none, and the column reaches u_el (p_s = 10⁻³ Pa here).
+TEST(QuasiStaticStabilisation, TheLowStressStiffnessLagsTheSettlementAndKeepsTheLoad) {
+  const int cells = 8;
+  // A small load (0.05 g, a settlement of 7 µm): the updated geometry moves later steps by
+  // 10⁻⁶ of the settlement (at 50 g by 10⁻³).
+  const double h = kHeight / cells, eta = 0.5, gravity_multiplier = 0.05;
+  const double weight = gravity_multiplier * kDensity * 9.81;
+  const double u_el = weight * 0.5 * kHeight * kHeight / constrained_modulus();  // at H
+  for (const double p_s : {1.0e12, 1.0e-3}) {
+    Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
+              GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
+    test_support::set_walls_and_fixed_base(grid);
+    Particles particles = test_support::particle_block(
+        grid, Geometry::plane_strain,
+        test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+    Settings settings;
+    settings.low_stress_stiffness = eta;
+    settings.low_stress_pressure = p_s;
+    auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+    QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+    const int top = solver.grid().node_index(1, cells);
+    LoadStep load;
+    load.gravity_multiplier = gravity_multiplier;
+    double settlement = 0.0;
+    const double r = eta / (1.0 + eta);
+    for (int n = 1; n <= 3; ++n) {
+      ASSERT_TRUE(solver.solve_step(load).converged) << "step " << n;
+      settlement -= solver.last_node_displacement()[std::size_t(top)].y();
+      const double expected =
+          p_s > 1.0 ? u_el * (1.0 - std::pow(r, n)) : (n == 1 ? u_el / (1.0 + eta) : u_el);
+      const double reaction = solver.boundary_reaction().y() / (weight * kHeight * 2.0 * h);
+      std::printf(
+          "p_s %.0e Pa, step %d: settlement / u_el %.9f (expected %.9f), base reaction / "
+          "weight %.12f, damping / strain work %.6f\n",
+          p_s, n, settlement / u_el, expected / u_el, reaction,
+          solver.energies().damping / solver.energies().internal);
+      EXPECT_NEAR(settlement, expected, 2e-5 * u_el) << "step " << n;
+      EXPECT_NEAR(reaction, 1.0, 1e-9) << "step " << n;
+      if (n == 1) {
+        EXPECT_NEAR(solver.energies().damping / solver.energies().internal, eta, 1e-6);
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pilempm::mpm::quasi_static

@@ -179,13 +179,18 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
     for (const char* key :
          {"mass_scaling", "courant_number", "flip_fraction", "xpic_order", "local_damping"})
       refuse_explicit(*t, key);
-    for (const char* key : {"displacement_step_D", "contact_smoothing"})
+    for (const char* key : {"displacement_step_D", "contact_smoothing", "low_stress_stiffness",
+                            "low_stress_pressure_Pa"})
       if (!quasi_static && t->contains(key))
         throw t->error(key, "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
     s.displacement_step_D =
         t->number_or("displacement_step_D", s.displacement_step_D, NumberRange::closed(1e-4, 1.0));
     s.contact_smoothing =
         t->number_or("contact_smoothing", s.contact_smoothing, NumberRange::closed(0.0, 1.0));
+    s.low_stress_stiffness = t->number_or("low_stress_stiffness", s.low_stress_stiffness,
+                                          NumberRange::closed(0.0, 10.0));
+    s.low_stress_pressure_Pa = t->number_or("low_stress_pressure_Pa", s.low_stress_pressure_Pa,
+                                            NumberRange::left_open(0.0, 1.0e7));
     s.mass_scaling = t->number_or("mass_scaling", s.mass_scaling, NumberRange::at_least(1.0));
     s.courant_number =
         t->number_or("courant_number", s.courant_number, NumberRange::left_open(0.0, 1.0));

@@ -87,7 +87,8 @@ const std::vector<std::string> kQuasiStaticOnlyKeys = {
     "accept_tolerance",        "accept_after_iterations",
     "linear_solver",           "contact_penalty_factor",
     "newton_step_limit_cells", "contact_vertex_radius_cells",
-    "contact_smoothing"};
+    "contact_smoothing",       "low_stress_stiffness",
+    "low_stress_pressure_Pa"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -148,6 +149,10 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
       "contact_vertex_radius_cells", q.contact.vertex_radius, NumberRange::closed(0.0, 2.0));
   q.contact.smoothing =
       solver->number_or("contact_smoothing", q.contact.smoothing, NumberRange::closed(0.0, 1.0));
+  q.low_stress_stiffness = solver->number_or("low_stress_stiffness", q.low_stress_stiffness,
+                                             NumberRange::closed(0.0, 10.0));
+  q.low_stress_pressure = solver->number_or("low_stress_pressure_Pa", q.low_stress_pressure,
+                                            NumberRange::left_open(0.0, 1.0e7));
   solver->check_no_unknown_keys();
 }
 

@@ -244,6 +244,8 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.number("newton_step_limit_cells", q.step_limit);
   t.number("contact_vertex_radius_cells", q.contact.vertex_radius);
   t.number("contact_smoothing", q.contact.smoothing);
+  t.number("low_stress_stiffness", q.low_stress_stiffness);
+  t.number("low_stress_pressure_Pa", q.low_stress_pressure);
 }
 
 void write_integrator(TomlText& t, const IntegratorSettings& s) {

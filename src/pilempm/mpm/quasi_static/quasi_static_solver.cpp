@@ -45,6 +45,9 @@ void Settings::validate() const {
   positive(energy_tolerance, "energy_tolerance");
   positive(perturbation, "perturbation");
   positive(floor_stiffness, "floor_stiffness");
+  if (!(low_stress_stiffness >= 0.0) || !std::isfinite(low_stress_stiffness))
+    throw InvalidValue("low_stress_stiffness", format_value(low_stress_stiffness), ">= 0");
+  positive(low_stress_pressure, "low_stress_pressure");
   if (max_iterations < 1)
     throw InvalidValue("max_iterations", std::to_string(max_iterations), ">= 1");
   if (line_search_steps < 0)
@@ -381,6 +384,11 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     energies_.internal +=
         0.5 * p.volume[i] *
         (p.state[i].stress + trial.state[i].stress).dot(trial.strain_increment[i]);
+    // The low-stress stabilisation's stress grows with the strain over the sub-increment and is
+    // released after it: its work is dissipated.
+    if (i < trial.stabilising_stress.size())
+      energies_.damping +=
+          0.5 * p.volume[i] * trial.stabilising_stress[i].dot(trial.strain_increment[i]);
     energies_.external_work +=
         (traction_mean * p.external_force[i] - Vec2(0.0, p.mass[i] * gravity_mean))
             .dot(displacement);

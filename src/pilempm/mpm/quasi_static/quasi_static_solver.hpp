@@ -104,6 +104,19 @@ struct Settings {
   /// nodes such particles alone support without stiffness (the matrix singular); the full
   /// modulus made a push step take 450 iterations instead of 20 (docs/quasi-static.md).
   double floor_stiffness = 1.0e-3;
+  /// Low-stress stabilisation. Sand that has lost its stress (behind a pile's shoulder, along
+  /// its shaft) has almost no stiffness, and where such particles alone support a node, Newton's
+  /// method has nothing to hold the node's motion (the full model MPM-2 stalled so at 3 D,
+  /// docs/centrifuge.md). A particle whose converged mean stress p is below low_stress_pressure
+  /// p_s answers, within each sub-increment, with an added isotropic elastic stress
+  ///   σ_s = w η M_c C : Δε,   w = 1 − p / p_s,   C of unit constrained modulus and ν = 0.3,
+  /// η = low_stress_stiffness, M_c the material's penalty modulus (ContactSettings), in the
+  /// residual and the matrix alike (w is fixed by the converged state, so the residual stays
+  /// smooth over the iterations). It is not kept past the sub-increment (a stress of the
+  /// step's own strain, like a viscous one in the pseudo-time), and its work is booked as
+  /// damping (Energies::damping). 0: none.
+  double low_stress_stiffness = 0.0;
+  double low_stress_pressure = 1.0e4;  ///< p_s [Pa]
   /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
   /// body): a node whose support s_i = Σ_p S_ip V_p is below support_threshold times its own
   /// volume v_i (h_x h_y, ∫ r dr dz in axisymmetry) is tied to each of its grid neighbours

@@ -140,6 +140,9 @@ struct QuasiStaticSolver::Trial {
   // with on_floor per particle: an evaluation of the same iterate for its matrix reuses them.
   bool has_states = false;
   std::vector<char> on_floor;
+  /// The low-stress stabilisation's stress of each particle (Settings::low_stress_stiffness),
+  /// added to the model's in the internal force; not kept past the sub-increment.
+  std::vector<Vec6> stabilising_stress;
   double reference_force = 0.0;
   int floor_particles = 0;    // stress updates that ended on the model's mean stress floor
   long failed_particle = -1;  // the first particle whose stress update failed, or -1

@@ -17,6 +17,63 @@ namespace pilempm::mpm::quasi_static {
 
 using namespace detail;
 
+namespace {
+
+// The isotropic elastic stiffness (ν = kFallbackPoisson) of a constrained modulus M:
+// E = M (1 + ν)(1 − 2ν) / (1 − ν).
+Mat6 isotropic_stiffness(double constrained_modulus) {
+  const double nu = kFallbackPoisson;
+  return ElasticParameters{constrained_modulus * (1.0 + nu) * (1.0 - 2.0 * nu) / (1.0 - nu), nu}
+      .stiffness();
+}
+
+// The material part of a particle's Newton matrix d (in-plane): the derivative of its integrated
+// update `state` (from `rotated` over `strain`) with respect to the strain.
+void material_tangent(const ConstitutiveModel& model, const MaterialState& converged,
+                      const MaterialState& rotated, const MaterialState& state, const Vec6& strain,
+                      bool on_floor, const SubstepPath& path, const Settings& settings,
+                      bool axisymmetric, Mat4& d) {
+  // On the stress floor the integrated update does not change with the strain (a zero
+  // derivative would leave the nodes such particles alone support without stiffness): a small
+  // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only.
+  const auto elastic_fallback = [&] {
+    d = in_plane(isotropic_stiffness(settings.floor_stiffness * model.wave_modulus(converged)));
+  };
+  if (on_floor) {
+    elastic_fallback();
+    return;
+  }
+  const TangentKind kind = settings.tangent;
+  const bool analytic =
+      kind == TangentKind::elastic ||
+      (kind == TangentKind::automatic && dynamic_cast<const LinearElastic*>(&model) != nullptr);
+  if (analytic) {
+    d = in_plane(model.tangent(state, strain));
+    return;
+  }
+  // Fellin & Ostermann (2002): forward differences of the integrated update, the probes along
+  // the sub-steps the update took (SubstepPath: the quotient is then the derivative of one
+  // smooth map, and the probes need no error control). The strain components that vary
+  // (columns of d): plane strain has no 33.
+  const int used_columns = axisymmetric ? 4 : 3;
+  const int used_column[4] = {0, 1, axisymmetric ? 2 : 3, 3};
+  const double h = settings.perturbation * std::max(strain.norm(), 1.0e-6);
+  for (int c = 0; c < used_columns; ++c) {
+    const int dc = used_column[c];
+    Vec6 perturbed = strain;
+    perturbed[kComponents[dc]] += h;
+    MaterialState probe = rotated;
+    if (!model.update_along(probe, perturbed, path).ok) {  // beyond the model's domain
+      elastic_fallback();
+      return;
+    }
+    const Vec6 difference = (probe.stress - state.stress) / h;
+    for (int r = 0; r < 4; ++r) d(r, dc) = difference[kComponents[r]];
+  }
+}
+
+}  // namespace
+
 bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<double>& du,
                                  double gravity, double traction,
                                  const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
@@ -50,6 +107,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.path.resize(std::size_t(count));
   trial.on_floor.resize(std::size_t(count));
   trial.strain_increment.resize(std::size_t(count));
+  trial.stabilising_stress.resize(std::size_t(count));
   trial.gradient.resize(std::size_t(count));
   trial.hoop.resize(std::size_t(count));
   if (tangent) trial.tangent.resize(std::size_t(count));
@@ -59,10 +117,15 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.failed_particle = -1;
   trial.failure = "";
   int floor_particles = 0;
-  const TangentKind kind = settings_.tangent;
-  // The strain components that vary (rows of B): plane strain has no 33.
-  const int used_columns = axisymmetric ? 4 : 3;
-  const int used_column[4] = {0, 1, axisymmetric ? 2 : 3, 3};
+  // The added modulus of the low-stress stabilisation (Settings::low_stress_stiffness), from the
+  // converged mean stress: fixed over the sub-increment's iterations.
+  const auto low_stress_modulus = [&](long i) {
+    if (!(settings_.low_stress_stiffness > 0.0)) return 0.0;
+    const double weight =
+        1.0 - mean_stress(p.state[std::size_t(i)].stress) / settings_.low_stress_pressure;
+    return std::clamp(weight, 0.0, 1.0) * settings_.low_stress_stiffness *
+           contact_modulus_[std::size_t(p.material[std::size_t(i)])];
+  };
   const bool averaging = settings_.volumetric_averaging;
   const double normal_components = axisymmetric ? 3.0 : 2.0;
 #pragma omp parallel for schedule(static) num_threads(threads_) reduction(|| : failed) \
@@ -116,47 +179,21 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     }
     const bool on_floor = trial.on_floor[std::size_t(i)] != 0;
     if (on_floor) ++floor_particles;
+    // Low-stress stabilisation (Settings::low_stress_stiffness): weighted by the converged mean
+    // stress, so the set and the weights stay fixed over the sub-increment's iterations.
+    const double low_modulus = low_stress_modulus(i);
+    Mat6 low_stiffness = Mat6::Zero();
+    trial.stabilising_stress[std::size_t(i)].setZero();
+    if (low_modulus > 0.0) {
+      low_stiffness = isotropic_stiffness(low_modulus);
+      trial.stabilising_stress[std::size_t(i)] = low_stiffness * strain;
+    }
     if (!tangent) continue;
     Mat4& d = trial.tangent[std::size_t(i)];
     d.setZero();
-    // On the stress floor the integrated update does not change with the strain (a zero
-    // derivative would leave the nodes such particles alone support without stiffness): a small
-    // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only.
-    const auto elastic_fallback = [&] {
-      // E from the constrained modulus M = E (1 − ν) / ((1 + ν)(1 − 2ν)).
-      const double m = settings_.floor_stiffness * model.wave_modulus(p.state[std::size_t(i)]);
-      const double nu = kFallbackPoisson;
-      d = in_plane(
-          ElasticParameters{m * (1.0 + nu) * (1.0 - 2.0 * nu) / (1.0 - nu), nu}.stiffness());
-    };
-    if (on_floor) {
-      elastic_fallback();
-      continue;
-    }
-    const bool analytic =
-        kind == TangentKind::elastic ||
-        (kind == TangentKind::automatic && dynamic_cast<const LinearElastic*>(&model) != nullptr);
-    if (analytic) {
-      d = in_plane(model.tangent(state, strain));
-      continue;
-    }
-    // Fellin & Ostermann (2002): forward differences of the integrated update, the probes along
-    // the sub-steps the update took (SubstepPath: the quotient is then the derivative of one
-    // smooth map, and the probes need no error control).
-    const SubstepPath& path = trial.path[std::size_t(i)];
-    const double h = settings_.perturbation * std::max(strain.norm(), 1.0e-6);
-    for (int c = 0; c < used_columns; ++c) {
-      const int dc = used_column[c];
-      Vec6 perturbed = strain;
-      perturbed[kComponents[dc]] += h;
-      MaterialState probe = rotated;
-      if (!model.update_along(probe, perturbed, path).ok) {  // beyond the model's domain
-        elastic_fallback();
-        break;
-      }
-      const Vec6 difference = (probe.stress - state.stress) / h;
-      for (int r = 0; r < 4; ++r) d(r, dc) = difference[kComponents[r]];
-    }
+    material_tangent(model, p.state[std::size_t(i)], rotated, state, strain, on_floor,
+                     trial.path[std::size_t(i)], settings_, axisymmetric, d);
+    if (low_modulus > 0.0) d += in_plane(low_stiffness);
   }
   result.seconds_material += seconds_since(material_start);
   trial.floor_particles = floor_particles;
@@ -207,7 +244,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     for (long i = 0; i < count; ++i) {
       const ParticleNodes& pn = setup.nodes[std::size_t(i)];
       const double volume = p.volume[std::size_t(i)];
-      const Vec6& s = trial.state[std::size_t(i)].stress;
+      // The model's stress and the low-stress stabilisation's (zero where there is none).
+      const Vec6 s = trial.state[std::size_t(i)].stress + trial.stabilising_stress[std::size_t(i)];
       const double radius = p.position[std::size_t(i)].x();
       const Vec2 load = traction * p.external_force[std::size_t(i)] +
                         Vec2(0.0, p.mass[std::size_t(i)] * body_force);

@@ -64,6 +64,10 @@ struct CentrifugeScenario {
   /// The contact's normal force smoothed over this fraction of the particle size
   /// (mpm::ContactSettings::smoothing; quasi-static analysis only, docs/centrifuge.md).
   double contact_smoothing = 0.05;
+  /// The low-stress stabilisation (mpm::quasi_static::Settings::low_stress_stiffness and
+  /// low_stress_pressure; quasi-static analysis only, docs/centrifuge.md): 0, none.
+  double low_stress_stiffness = 0.0;
+  double low_stress_pressure_Pa = 100.0;
 
   // The phases.
   double wished_in_place_D = 10.0;  ///< tip depth below the surface when the pile is put in
