@@ -386,7 +386,7 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
         (p.state[i].stress + trial.state[i].stress).dot(trial.strain_increment[i]);
     // The low-stress stabilisation's stress grows with the strain over the sub-increment and is
     // released after it: its work is dissipated.
-    if (i < trial.stabilising_stress.size())
+    if (!trial.stabilising_stress.empty())
       energies_.damping +=
           0.5 * p.volume[i] * trial.stabilising_stress[i].dot(trial.strain_increment[i]);
     energies_.external_work +=

@@ -116,7 +116,7 @@ struct Settings {
   /// step's own strain, like a viscous one in the pseudo-time), and its work is booked as
   /// damping (Energies::damping). 0: none.
   double low_stress_stiffness = 0.0;
-  double low_stress_pressure = 1.0e4;  ///< p_s [Pa]
+  double low_stress_pressure = 100.0;  ///< p_s [Pa]
   /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
   /// body): a node whose support s_i = Σ_p S_ip V_p is below support_threshold times its own
   /// volume v_i (h_x h_y, ∫ r dr dz in axisymmetry) is tied to each of its grid neighbours

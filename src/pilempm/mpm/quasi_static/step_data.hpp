@@ -141,7 +141,8 @@ struct QuasiStaticSolver::Trial {
   bool has_states = false;
   std::vector<char> on_floor;
   /// The low-stress stabilisation's stress of each particle (Settings::low_stress_stiffness),
-  /// added to the model's in the internal force; not kept past the sub-increment.
+  /// added to the model's in the internal force; not kept past the sub-increment. Empty without
+  /// the stabilisation.
   std::vector<Vec6> stabilising_stress;
   double reference_force = 0.0;
   int floor_particles = 0;    // stress updates that ended on the model's mean stress floor

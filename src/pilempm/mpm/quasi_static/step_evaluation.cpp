@@ -107,7 +107,9 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.path.resize(std::size_t(count));
   trial.on_floor.resize(std::size_t(count));
   trial.strain_increment.resize(std::size_t(count));
-  trial.stabilising_stress.resize(std::size_t(count));
+  // Empty without the low-stress stabilisation (the common case): nothing to add per particle.
+  const bool stabilising = settings_.low_stress_stiffness > 0.0;
+  trial.stabilising_stress.assign(stabilising ? std::size_t(count) : 0, Vec6::Zero());
   trial.gradient.resize(std::size_t(count));
   trial.hoop.resize(std::size_t(count));
   if (tangent) trial.tangent.resize(std::size_t(count));
@@ -120,7 +122,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   // The added modulus of the low-stress stabilisation (Settings::low_stress_stiffness), from the
   // converged mean stress: fixed over the sub-increment's iterations.
   const auto low_stress_modulus = [&](long i) {
-    if (!(settings_.low_stress_stiffness > 0.0)) return 0.0;
+    if (!stabilising) return 0.0;
     const double weight =
         1.0 - mean_stress(p.state[std::size_t(i)].stress) / settings_.low_stress_pressure;
     return std::clamp(weight, 0.0, 1.0) * settings_.low_stress_stiffness *
@@ -183,7 +185,6 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     // stress, so the set and the weights stay fixed over the sub-increment's iterations.
     const double low_modulus = low_stress_modulus(i);
     Mat6 low_stiffness = Mat6::Zero();
-    trial.stabilising_stress[std::size_t(i)].setZero();
     if (low_modulus > 0.0) {
       low_stiffness = isotropic_stiffness(low_modulus);
       trial.stabilising_stress[std::size_t(i)] = low_stiffness * strain;
@@ -244,8 +245,9 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     for (long i = 0; i < count; ++i) {
       const ParticleNodes& pn = setup.nodes[std::size_t(i)];
       const double volume = p.volume[std::size_t(i)];
-      // The model's stress and the low-stress stabilisation's (zero where there is none).
-      const Vec6 s = trial.state[std::size_t(i)].stress + trial.stabilising_stress[std::size_t(i)];
+      // The model's stress and the low-stress stabilisation's, where there is one.
+      Vec6 s = trial.state[std::size_t(i)].stress;
+      if (stabilising) s += trial.stabilising_stress[std::size_t(i)];
       const double radius = p.position[std::size_t(i)].x();
       const Vec2 load = traction * p.external_force[std::size_t(i)] +
                         Vec2(0.0, p.mass[std::size_t(i)] * body_force);
