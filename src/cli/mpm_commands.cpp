@@ -76,12 +76,17 @@ void run_mpm(const MpmRunFlags& flags) {
   if (summary.analysis == simulation::MpmAnalysis::quasi_static)
     fmt::print(
         "quasi-static: {} load steps, {} Newton iterations ({:.1f} per step, at most {}), {} "
-        "cuts, {} accepted above the force tolerance (largest ||R|| {:.2g} F_ref); largest "
+        "cuts, {} accepted above the force tolerance (largest ||R|| {:.2g} F_ref){}; largest "
         "contact penetration {:.3g} m\n",
         summary.steps, summary.newton_iterations,
         summary.steps > 0 ? double(summary.newton_iterations) / double(summary.steps) : 0.0,
         summary.most_newton_iterations, summary.newton_cuts, summary.newton_accepted,
-        summary.largest_accepted_residual, summary.max_penetration);
+        summary.largest_accepted_residual,
+        summary.newton_stabilised > 0
+            ? fmt::format(", {} sub-increments kept the low-stress stabilisation",
+                          summary.newton_stabilised)
+            : std::string(),
+        summary.max_penetration);
   fmt::print(
       "done: {} steps to t = {:.6g} s in {:.2f} s wall; {} snapshots in {}, energies in "
       "{}{}\n",

@@ -18,6 +18,8 @@
 
 #include "../support/mpm_builders.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/mpm/quasi_static/footing_problem.hpp"
+#include "pilempm/mpm/quasi_static/load_path.hpp"
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
 
 namespace pilempm::mpm::quasi_static {
@@ -217,6 +219,7 @@ TEST(QuasiStaticStabilisation, TheLowStressStiffnessLagsTheSettlementAndKeepsThe
     Settings settings;
     settings.low_stress_stiffness = eta;
     settings.low_stress_pressure = p_s;
+    settings.low_stress_resolve = false;  // keep the stabilised solutions
     auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
     QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
     const int top = solver.grid().node_index(1, cells);
@@ -225,7 +228,9 @@ TEST(QuasiStaticStabilisation, TheLowStressStiffnessLagsTheSettlementAndKeepsThe
     double settlement = 0.0;
     const double r = eta / (1.0 + eta);
     for (int n = 1; n <= 3; ++n) {
-      ASSERT_TRUE(solver.solve_step(load).converged) << "step " << n;
+      const LoadStepResult step = solver.solve_step(load);
+      ASSERT_TRUE(step.converged) << "step " << n;
+      EXPECT_EQ(step.stabilised, int(step.sub_increments.size())) << "step " << n;
       settlement -= solver.last_node_displacement()[std::size_t(top)].y();
       const double expected =
           p_s > 1.0 ? u_el * (1.0 - std::pow(r, n)) : (n == 1 ? u_el / (1.0 + eta) : u_el);
@@ -242,6 +247,80 @@ TEST(QuasiStaticStabilisation, TheLowStressStiffnessLagsTheSettlementAndKeepsThe
       }
     }
   }
+}
+
+// By default the stabilisation only finds the way: each sub-increment solved with it is solved
+// again without it from that solution, which for the elastic column converges, so the first
+// step gives the exact settlement, no damping, and no sub-increment keeps the stabilising stress.
+TEST(QuasiStaticStabilisation, TheResolveWithoutItLeavesTheExactSolution) {
+  const int cells = 8;
+  const double h = kHeight / cells, gravity_multiplier = 0.05;
+  const double weight = gravity_multiplier * kDensity * 9.81;
+  const double u_el = weight * 0.5 * kHeight * kHeight / constrained_modulus();
+  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
+            GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
+  test_support::set_walls_and_fixed_base(grid);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  Settings settings;
+  settings.low_stress_stiffness = 0.5;
+  settings.low_stress_pressure = 1.0e12;
+  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  LoadStep load;
+  load.gravity_multiplier = gravity_multiplier;
+  const LoadStepResult step = solver.solve_step(load);
+  ASSERT_TRUE(step.converged);
+  EXPECT_EQ(step.stabilised, 0);
+  const double settlement =
+      -solver.last_node_displacement()[std::size_t(solver.grid().node_index(1, cells))].y();
+  EXPECT_NEAR(settlement, u_el, 2e-5 * u_el);
+  EXPECT_NEAR(solver.boundary_reaction().y() / (weight * kHeight * 2.0 * h), 1.0, 1e-9);
+  EXPECT_EQ(solver.energies().damping, 0.0);
+}
+
+// Where a body moves, the stabilising stress resists only the change of a particle's strain
+// increment from the last sub-increment in which the body moved (scaled by the share of that
+// motion repeated), as inertia resists a change of velocity. An elastic layer (the strip
+// footing's soil with a cohesion it never reaches) pushed by the smooth footing in equal steps,
+// the stabilisation acting on every particle (p_s above every stress): in the first step there
+// is no reference and the footing's force lags the unstabilised force; as the steps repeat the
+// motion the lag fades, where resisting the whole increment would keep it.
+TEST(QuasiStaticStabilisation, TheLowStressStiffnessFadesWhereTheMotionRepeats) {
+  StripFootingProblem problem;
+  problem.cohesion = 1.0e12;  // elastic
+  problem.cells_under_footing = 4;
+  const double h = problem.cell();
+  const int steps = 10;
+  std::vector<double> plain, stabilised;
+  for (const double eta : {0.0, 0.5}) {
+    problem.settings.low_stress_stiffness = eta;
+    problem.settings.low_stress_pressure = 1.0e12;
+    problem.settings.low_stress_resolve = false;  // the stabilised solutions themselves
+    QuasiStaticSolver solver = problem.build();
+    for (const PushPoint& p : push_body(solver, 0, Vec2(0.0, -h / 16.0), steps, 0.0)) {
+      ASSERT_TRUE(p.converged) << "eta " << eta << ": " << p.message;
+      (eta > 0.0 ? stabilised : plain).push_back(p.force.y());
+    }
+  }
+  ASSERT_EQ(plain.size(), std::size_t(steps));
+  ASSERT_EQ(stabilised.size(), std::size_t(steps));
+  // The stabilising stress adds to the soil's: under the footing's prescribed motion the
+  // stabilised force exceeds the plain one.
+  const double first_excess = stabilised[0] - plain[0];
+  double later = 0.0;  // mean |excess| over steps 3 to 10
+  for (int n = 0; n < steps; ++n) {
+    const double excess = stabilised[std::size_t(n)] - plain[std::size_t(n)];
+    std::printf("step %d: force %.6g N, stabilised %.6g N, excess / first excess %.3e\n", n + 1,
+                plain[std::size_t(n)], stabilised[std::size_t(n)], excess / first_excess);
+    if (n >= 2) later += std::abs(excess) / (steps - 2);
+  }
+  // The first step: the stabilising stiffness η M_c stands beside the soil's and adds a good
+  // part of the step's force (measured: 47 %).
+  EXPECT_GT(first_excess, 0.2 * plain[0]);
+  // Then it fades (measured: 0.2-5 % of the first excess, 1.3 % on average; resisting the whole
+  // increment would keep an excess of the first one's order in every step).
+  EXPECT_LT(later, 0.03 * first_excess);
 }
 
 }  // namespace

@@ -179,10 +179,11 @@ std::string mpm_load_steps_header() {
   return "# quasi-static load steps: the Newton work of each, at the pseudo-time of its end; "
          "solves: 1, or more where a force stop rule was bisected within the step (the columns "
          "sum over them); accepted: sub-increments accepted above the force tolerance "
-         "(accept_tolerance) and the largest ||R|| / F_ref of them; penetration: the largest of a "
-         "contact point into a body at the step's end\n"
-         "time_s,step,phase,solves,iterations,cuts,accepted,largest_accepted_residual,unknowns,"
-         "penetration_m,material_s,assembly_s,factorisation_s,wall_s\n";
+         "(accept_tolerance) and the largest ||R|| / F_ref of them; stabilised: sub-increments "
+         "that kept the low-stress stabilisation's stress (low_stress_stiffness); penetration: the "
+         "largest of a contact point into a body at the step's end\n"
+         "time_s,step,phase,solves,iterations,cuts,accepted,largest_accepted_residual,stabilised,"
+         "unknowns,penetration_m,material_s,assembly_s,factorisation_s,wall_s\n";
 }
 
 std::string mpm_load_steps_row(const mpm::MpmState& solver, const std::string& phase,
@@ -190,7 +191,8 @@ std::string mpm_load_steps_row(const mpm::MpmState& solver, const std::string& p
   return csv_row({csv_number(solver.time(), 10), std::to_string(solver.steps()), phase,
                   std::to_string(record.solves), std::to_string(record.iterations),
                   std::to_string(record.cuts), std::to_string(record.accepted),
-                  csv_number(record.largest_accepted_residual, 3), std::to_string(record.unknowns),
+                  csv_number(record.largest_accepted_residual, 3),
+                  std::to_string(record.stabilised), std::to_string(record.unknowns),
                   csv_number(penetration, 4), csv_number(record.material_seconds, 4),
                   csv_number(record.assembly_seconds, 4),
                   csv_number(record.factorisation_seconds, 4), csv_number(record.wall_seconds, 4)});
@@ -517,6 +519,7 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
     summary.most_newton_iterations = quasi_static->most_iterations();
     summary.newton_accepted = quasi_static->total_accepted();
     summary.largest_accepted_residual = quasi_static->largest_accepted_residual();
+    summary.newton_stabilised = quasi_static->total_stabilised();
     summary.max_penetration = quasi_static->max_penetration();
   }
   return summary;

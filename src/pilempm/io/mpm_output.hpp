@@ -90,6 +90,8 @@ struct MpmRunSummary {
   /// ||R|| / F_ref of them.
   long newton_accepted = 0;
   double largest_accepted_residual = 0.0;
+  /// Sub-increments that kept the low-stress stabilisation's stress.
+  long newton_stabilised = 0;
   double max_penetration = 0.0;
 };
 

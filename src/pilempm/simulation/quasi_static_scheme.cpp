@@ -21,6 +21,7 @@ void LoadStepRecord::add(const mpm::quasi_static::LoadStepResult& step, double s
   cuts += step.cuts;
   accepted += step.accepted;
   largest_accepted_residual = std::max(largest_accepted_residual, step.largest_accepted_residual);
+  stabilised += step.stabilised;
   most_iterations = std::max(most_iterations, step.iterations);
   unknowns = step.unknowns;
   material_seconds += step.seconds_material;
@@ -158,10 +159,12 @@ Advance QuasiStaticScheme::advance(double target) {
 
 std::string QuasiStaticScheme::step_report() const {
   return fmt::format(
-      "{} it, {} cuts{}, penetration {:.2g} m", last_step_.iterations, last_step_.cuts,
+      "{} it, {} cuts{}{}, penetration {:.2g} m", last_step_.iterations, last_step_.cuts,
       last_step_.accepted > 0
           ? fmt::format(", accepted at ||R|| = {:.1e} F_ref", last_step_.largest_accepted_residual)
           : std::string(),
+      last_step_.stabilised > 0 ? fmt::format(", {} stabilised", last_step_.stabilised)
+                                : std::string(),
       solver_.max_penetration());
 }
 

@@ -28,8 +28,9 @@ struct LoadStepRecord {
   long iterations = 0, cuts = 0;
   long accepted = 0;                       ///< sub-increments accepted above the tolerance
   double largest_accepted_residual = 0.0;  ///< the largest ||R|| / F_ref of them
-  int most_iterations = 0;                 ///< of one solve
-  int unknowns = 0;                        ///< of the last system
+  long stabilised = 0;      ///< sub-increments that kept the low-stress stabilisation's stress
+  int most_iterations = 0;  ///< of one solve
+  int unknowns = 0;         ///< of the last system
   double material_seconds = 0.0, assembly_seconds = 0.0, factorisation_seconds = 0.0;
   double wall_seconds = 0.0;
 
@@ -71,6 +72,9 @@ class QuasiStaticScheme final : public Scheme {
   /// the largest ||R|| / F_ref of them.
   long total_accepted() const { return total_.accepted; }
   double largest_accepted_residual() const { return total_.largest_accepted_residual; }
+  /// Sub-increments that kept the low-stress stabilisation's stress (Settings::
+  /// low_stress_stiffness).
+  long total_stabilised() const { return total_.stabilised; }
   int most_iterations() const { return total_.most_iterations; }
   double max_penetration() const { return max_penetration_; }
 

@@ -48,6 +48,9 @@ void Settings::validate() const {
   if (!(low_stress_stiffness >= 0.0) || !std::isfinite(low_stress_stiffness))
     throw InvalidValue("low_stress_stiffness", format_value(low_stress_stiffness), ">= 0");
   positive(low_stress_pressure, "low_stress_pressure");
+  if (low_stress_resolve_iterations < 1)
+    throw InvalidValue("low_stress_resolve_iterations",
+                       std::to_string(low_stress_resolve_iterations), ">= 1");
   if (max_iterations < 1)
     throw InvalidValue("max_iterations", std::to_string(max_iterations), ">= 1");
   if (line_search_steps < 0)
@@ -257,113 +260,148 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
                  steps_ + 1, fraction, setup.unknowns);
     trace_line(0, Eigen::VectorXd(), 0.0, start);
   }
-  SparseMatrix matrix = setup.pattern;
-  double first_energy = 0.0;
-  for (int iteration = 1; iteration <= settings_.max_iterations; ++iteration) {
-    ++result.iterations;
-    if (!with_matrix(trial)) {
-      result.message =
-          fmt::format("a stress update failed in iteration {}", iteration) + failed_update(trial);
-      return false;
-    }
-    const auto factor_start = std::chrono::steady_clock::now();
-    trial.fill(matrix);
-    if (!linear_solver_.factorize(matrix, iteration == 1)) {
-      result.seconds_factorisation += seconds_since(factor_start);
-      result.message = "the Newton matrix is singular";
-      last_matrix_ = matrix;
-      return false;
-    }
-    Eigen::VectorXd step = linear_solver_.solve(-trial.residual);
-    // A Newton step that moves a node by more than step_limit cells is scaled down to that:
-    // where perfectly plastic soil offers a mechanism, only the contact restrains it, and an
-    // iterate that has lifted the soil off a body gives a step along the mechanism of many cells.
-    if (settings_.step_limit > 0.0 && step.size() > 0) {
-      const double largest = step.cwiseAbs().maxCoeff();
-      const double limit = settings_.step_limit * grid_.min_spacing();
-      if (largest > limit) step *= limit / largest;
-    }
-    result.seconds_factorisation += seconds_since(factor_start);
-    if (!step.allFinite()) {
-      result.message = "the Newton step is not finite";
-      return false;
-    }
-    if (iteration == 1) last_matrix_ = matrix;
-    // Line search: halve the step while the residual norm does not fall. If no length lowers it,
-    // the length with the smallest residual is taken (not the shortest: near a change of the
-    // contact or plastic state the shortest step can raise ||R|| by orders of magnitude).
-    const double before = trial.residual.norm();
-    const double energy_before = std::abs(step.dot(trial.residual));
-    double length = 1.0;
-    Trial next, best;
-    std::vector<double> best_du;
-    double best_norm = std::numeric_limits<double>::infinity(), best_length = 1.0;
-    for (int attempt = 0; attempt <= settings_.line_search_steps; ++attempt) {
-      std::vector<double> candidate = du;
-      for (int d = 0; d < setup.unknowns; ++d) candidate[std::size_t(d)] += length * step[d];
-      if (evaluate(setup, candidate, gravity, traction, body_step, false, next, result)) {
-        const double norm = next.residual.norm();
-        if (norm < best_norm) {
-          best_norm = norm;
-          best_length = length;
-          best_du.swap(candidate);
-          std::swap(best, next);
-        }
-        if (norm < before) break;
+  // Newton's iterations from (du, trial) until the force balance converges (true; accepted above
+  // the force tolerance is counted in the records) or they fail (false, result.message says
+  // why). Nothing is committed.
+  const auto newton = [&](int max_iterations) -> bool {
+    SparseMatrix matrix = setup.pattern;
+    double first_energy = 0.0;
+    for (int iteration = 1; iteration <= max_iterations; ++iteration) {
+      ++result.iterations;
+      if (!with_matrix(trial)) {
+        result.message =
+            fmt::format("a stress update failed in iteration {}", iteration) + failed_update(trial);
+        return false;
       }
-      length *= 0.5;
+      const auto factor_start = std::chrono::steady_clock::now();
+      trial.fill(matrix);
+      if (!linear_solver_.factorize(matrix, iteration == 1)) {
+        result.seconds_factorisation += seconds_since(factor_start);
+        result.message = "the Newton matrix is singular";
+        last_matrix_ = matrix;
+        return false;
+      }
+      Eigen::VectorXd step = linear_solver_.solve(-trial.residual);
+      // A Newton step that moves a node by more than step_limit cells is scaled down to that:
+      // where perfectly plastic soil offers a mechanism, only the contact restrains it, and an
+      // iterate that has lifted the soil off a body gives a step along the mechanism of many cells.
+      if (settings_.step_limit > 0.0 && step.size() > 0) {
+        const double largest = step.cwiseAbs().maxCoeff();
+        const double limit = settings_.step_limit * grid_.min_spacing();
+        if (largest > limit) step *= limit / largest;
+      }
+      result.seconds_factorisation += seconds_since(factor_start);
+      if (!step.allFinite()) {
+        result.message = "the Newton step is not finite";
+        return false;
+      }
+      if (iteration == 1) last_matrix_ = matrix;
+      // Line search: halve the step while the residual norm does not fall. If no length lowers it,
+      // the length with the smallest residual is taken (not the shortest: near a change of the
+      // contact or plastic state the shortest step can raise ||R|| by orders of magnitude).
+      const double before = trial.residual.norm();
+      const double energy_before = std::abs(step.dot(trial.residual));
+      double length = 1.0;
+      Trial next, best;
+      std::vector<double> best_du;
+      double best_norm = std::numeric_limits<double>::infinity(), best_length = 1.0;
+      for (int attempt = 0; attempt <= settings_.line_search_steps; ++attempt) {
+        std::vector<double> candidate = du;
+        for (int d = 0; d < setup.unknowns; ++d) candidate[std::size_t(d)] += length * step[d];
+        if (evaluate(setup, candidate, gravity, traction, body_step, false, next, result)) {
+          const double norm = next.residual.norm();
+          if (norm < best_norm) {
+            best_norm = norm;
+            best_length = length;
+            best_du.swap(candidate);
+            std::swap(best, next);
+          }
+          if (norm < before) break;
+        }
+        length *= 0.5;
+      }
+      if (!std::isfinite(best_norm)) {
+        result.message =
+            fmt::format("a stress update failed in iteration {}'s line search", iteration) +
+            failed_update(next);
+        return false;
+      }
+      du.swap(best_du);
+      next = std::move(best);
+      length = best_length;
+      IterationRecord iteration_record = contact_record(next.corner, &trial.corner);
+      trial = std::move(next);
+      iteration_record.floor_particles = trial.floor_particles;
+      iteration_record.residual_norm = trial.residual.norm();
+      iteration_record.energy_norm = std::abs(length * step.dot(trial.residual));
+      iteration_record.line_search = length;
+      if (iteration == 1) first_energy = energy_before;
+      record.iterations.push_back(iteration_record);
+      if (settings_.trace != nullptr) trace_line(iteration, step, length, iteration_record);
+      const bool energy_converged = iteration_record.energy_norm <=
+                                    settings_.energy_tolerance * std::max(first_energy, 1e-300);
+      if (force_converged(trial) && energy_converged) return true;
+      if (iteration_record.residual_norm > 1.0e8 * std::max(record.initial_residual, 1e-300)) {
+        result.message = "the Newton iterations diverge";
+        return false;
+      }
+      if (settings_.accept_after > 0 && iteration >= settings_.accept_after &&
+          iteration < max_iterations &&
+          trial.residual.norm() <=
+              settings_.accept_tolerance * std::max(trial.reference_force, 1.0e-300))
+        break;
     }
-    if (!std::isfinite(best_norm)) {
-      result.message =
-          fmt::format("a stress update failed in iteration {}'s line search", iteration) +
-          failed_update(next);
-      return false;
-    }
-    du.swap(best_du);
-    next = std::move(best);
-    length = best_length;
-    IterationRecord iteration_record = contact_record(next.corner, &trial.corner);
-    trial = std::move(next);
-    iteration_record.floor_particles = trial.floor_particles;
-    iteration_record.residual_norm = trial.residual.norm();
-    iteration_record.energy_norm = std::abs(length * step.dot(trial.residual));
-    iteration_record.line_search = length;
-    if (iteration == 1) first_energy = energy_before;
-    record.iterations.push_back(iteration_record);
-    if (settings_.trace != nullptr) trace_line(iteration, step, length, iteration_record);
-    const bool energy_converged =
-        iteration_record.energy_norm <= settings_.energy_tolerance * std::max(first_energy, 1e-300);
-    if (force_converged(trial) && energy_converged) {
+    const double ratio = trial.residual.norm() / std::max(trial.reference_force, 1.0e-300);
+    if (ratio <= settings_.accept_tolerance) {
       record.converged = true;
-      commit(setup, du, trial, gravity, traction, body_step);
+      // Accepted above the force tolerance; at or below it only the energy norm had not converged,
+      // and the sub-increment is not counted as accepted (its force balance is converged).
+      record.accepted = ratio > settings_.force_tolerance;
+      if (record.accepted) {
+        ++result.accepted;
+        result.largest_accepted_residual = std::max(result.largest_accepted_residual, ratio);
+      }
       return true;
     }
-    if (iteration_record.residual_norm > 1.0e8 * std::max(record.initial_residual, 1e-300)) {
-      result.message = "the Newton iterations diverge";
-      return false;
+    result.message = fmt::format("no convergence in {} iterations (||R|| = {:.2g} F_ref)",
+                                 max_iterations, ratio);
+    return false;
+  };
+  if (!newton(settings_.max_iterations)) return false;
+  record.converged = true;
+  if (settings_.low_stress_stiffness > 0.0) {
+    // The low-stress stabilisation only finds the way: the sub-increment is solved again
+    // without it, from its stabilised solution, and that solution is kept only if this fails.
+    bool exact = false;
+    if (settings_.low_stress_resolve) {
+      const std::vector<double> stabilised_du = du;
+      Trial stabilised_trial = trial;
+      const bool stabilised_accepted = record.accepted;
+      const int accepted_before = result.accepted;
+      const double largest_before = result.largest_accepted_residual;
+      record.accepted = false;
+      stabilisation_scale_ = 0.0;
+      if (settings_.trace != nullptr)
+        std::fprintf(settings_.trace, "newton: again without the low-stress stabilisation\n");
+      exact = evaluate(setup, du, gravity, traction, body_step, false, trial, result);
+      if (exact && !force_converged(trial)) exact = newton(settings_.low_stress_resolve_iterations);
+      stabilisation_scale_ = 1.0;
+      if (!exact) {
+        du = stabilised_du;
+        trial = std::move(stabilised_trial);
+        record.accepted = stabilised_accepted;
+        result.accepted = accepted_before;
+        result.largest_accepted_residual = largest_before;
+        result.message.clear();
+      }
     }
-    if (settings_.accept_after > 0 && iteration >= settings_.accept_after &&
-        iteration < settings_.max_iterations &&
-        trial.residual.norm() <=
-            settings_.accept_tolerance * std::max(trial.reference_force, 1.0e-300))
-      break;
-  }
-  const double ratio = trial.residual.norm() / std::max(trial.reference_force, 1.0e-300);
-  if (ratio <= settings_.accept_tolerance) {
-    record.converged = true;
-    // Accepted above the force tolerance; at or below it only the energy norm had not converged,
-    // and the sub-increment is not counted as accepted (its force balance is converged).
-    record.accepted = ratio > settings_.force_tolerance;
-    if (record.accepted) {
-      ++result.accepted;
-      result.largest_accepted_residual = std::max(result.largest_accepted_residual, ratio);
+    if (!exact) {
+      record.stabilised = true;
+      ++result.stabilised;
     }
-    commit(setup, du, trial, gravity, traction, body_step);
-    return true;
   }
-  result.message = fmt::format("no convergence in {} iterations (||R|| = {:.2g} F_ref)",
-                               settings_.max_iterations, ratio);
-  return false;
+  commit(setup, du, trial, gravity, traction, body_step);
+  return true;
 }
 
 void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>& du,
@@ -376,6 +414,14 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
   // Work over the step (trapezoidal in the stress and the load factor).
   const double gravity_mean = 0.5 * (gravity + gravity_multiplier_) * settings_.gravity;
   const double traction_mean = 0.5 * (traction + traction_multiplier_);
+  // The low-stress stabilisation's reference: this sub-increment's strains, if a body moved.
+  if (settings_.low_stress_stiffness > 0.0) {
+    const Vec2 motion = largest_motion(body_step);
+    if (motion.squaredNorm() > 0.0) {
+      reference_strain_ = trial.strain_increment;
+      reference_motion_ = motion;
+    }
+  }
   for (std::size_t i = 0; i < count; ++i) {
     const ParticleNodes& pn = setup.nodes[i];
     Vec2 displacement = Vec2::Zero();
@@ -468,6 +514,8 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   const double start_gravity = gravity_multiplier_, start_traction = traction_multiplier_;
   const Energies start_energies = energies_;
   const Vec2 start_reaction = boundary_reaction_;
+  const std::vector<Vec6> start_reference_strain = reference_strain_;
+  const Vec2 start_reference_motion = reference_motion_;
   const double start_penetration = max_penetration_;
   if (std::all_of(contact_modulus_.begin(), contact_modulus_.end(),
                   [](double m) { return m == 0.0; }))
@@ -502,6 +550,8 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
       traction_multiplier_ = start_traction;
       energies_ = start_energies;
       boundary_reaction_ = start_reaction;
+      reference_strain_ = start_reference_strain;
+      reference_motion_ = start_reference_motion;
       max_penetration_ = start_penetration;
       result.converged = false;
       result.message = fmt::format("no convergence after {} cuts ({} done of the step): {}",

@@ -109,14 +109,25 @@ struct Settings {
   /// method has nothing to hold the node's motion (the full model MPM-2 stalled so at 3 D,
   /// docs/centrifuge.md). A particle whose converged mean stress p is below low_stress_pressure
   /// p_s answers, within each sub-increment, with an added isotropic elastic stress
-  ///   σ_s = w η M_c C : Δε,   w = 1 − p / p_s,   C of unit constrained modulus and ν = 0.3,
-  /// η = low_stress_stiffness, M_c the material's penalty modulus (ContactSettings), in the
-  /// residual and the matrix alike (w is fixed by the converged state, so the residual stays
-  /// smooth over the iterations). It is not kept past the sub-increment (a stress of the
-  /// step's own strain, like a viscous one in the pseudo-time), and its work is booked as
-  /// damping (Energies::damping). 0: none.
+  ///   σ_s = w η M_c C : (Δε − Δε_ref),   w = 1 − p / p_s,   C of unit constrained modulus
+  /// and ν = 0.3, η = low_stress_stiffness, M_c the material's penalty modulus
+  /// (ContactSettings), in the residual and the matrix alike (w is fixed by the converged
+  /// state, so the residual stays smooth over the iterations). Δε_ref is the particle's strain
+  /// increment in the last sub-increment in which a body moved, times the share of that motion
+  /// the current one repeats, (d · d_last) / |d_last|² (d: the motion of the body that moves
+  /// most; Δε_ref = 0 while no body has moved): the stress resists the change of the particle's
+  /// motion from one load step to the next, as inertia does, and vanishes where the sand flows
+  /// steadily past a pile. It is not kept past the sub-increment. The stabilisation only finds
+  /// the way: each sub-increment solved with it is solved again without it, from its solution,
+  /// and the stabilised solution is kept (its work booked as damping, Energies::damping,
+  /// counted in LoadStepResult::stabilised) only where that solve fails. 0: none.
   double low_stress_stiffness = 0.0;
   double low_stress_pressure = 100.0;  ///< p_s [Pa]
+  /// Whether a sub-increment solved with the low-stress stabilisation is solved again without
+  /// it (the default; false keeps every stabilised solution, for tests of the stabilisation).
+  bool low_stress_resolve = true;
+  /// The Newton iterations that solve may take before the stabilised solution is kept.
+  int low_stress_resolve_iterations = 25;
   /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
   /// body): a node whose support s_i = Σ_p S_ip V_p is below support_threshold times its own
   /// volume v_i (h_x h_y, ∫ r dr dz in axisymmetry) is tied to each of its grid neighbours
@@ -184,6 +195,8 @@ struct SubIncrementRecord {
   bool converged = false;
   /// Accepted after max_iterations at ||R|| / F_ref above force_tolerance (accept_tolerance).
   bool accepted = false;
+  /// Kept the low-stress stabilisation's stress (its solve without it failed).
+  bool stabilised = false;
   std::vector<IterationRecord> iterations;
 };
 
@@ -194,6 +207,9 @@ struct LoadStepResult {
   /// Sub-increments accepted after max_iterations (Settings::accept_tolerance) and the largest
   /// ||R|| / F_ref of them.
   int accepted = 0;
+  /// Sub-increments that kept the low-stress stabilisation's stress (Settings::
+  /// low_stress_stiffness): their solve without it failed.
+  int stabilised = 0;
   double largest_accepted_residual = 0.0;
   std::vector<SubIncrementRecord> sub_increments;
   std::string message;  ///< why it failed
@@ -334,6 +350,13 @@ class QuasiStaticSolver final : public MpmState {
   /// all 0: not fixed yet).
   std::vector<double> contact_modulus_;
   double last_body_step_ = 0.0;  // largest body displacement of the last increment [m]
+  /// The low-stress stabilisation's reference (Settings::low_stress_stiffness): each particle's
+  /// strain increment in the last sub-increment in which a body moved, and that motion [m]
+  /// (empty and zero without the stabilisation or before any body moved).
+  std::vector<Vec6> reference_strain_;
+  Vec2 reference_motion_ = Vec2::Zero();
+  /// 1, or 0 while a sub-increment is solved again without the low-stress stabilisation.
+  double stabilisation_scale_ = 1.0;
   Vec2 boundary_reaction_ = Vec2::Zero();
   double max_penetration_ = 0.0;
   double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, time_ = 0.0;

@@ -22,6 +22,10 @@ constexpr const char* kNodeDisplacements = "last_node_displacement_m";
 // boundary reaction x, y [N] (the work account is the run state's energies)
 constexpr const char* kLoad = "quasi_static_load";
 constexpr const char* kContactModulus = "contact_modulus_Pa";  // per material (0: not fixed)
+// The low-stress stabilisation's reference (only with the stabilisation, once a body moved):
+// each particle's strain increment (6 components) and the body motion it went with [m].
+constexpr const char* kReferenceStrain = "low_stress_reference_strain";
+constexpr const char* kReferenceMotion = "low_stress_reference_motion_m";
 
 std::vector<double> flat(const std::vector<Vec2>& v) {
   std::vector<double> out;
@@ -55,18 +59,31 @@ SolverRunState QuasiStaticSolver::run_state() const {
                           {gravity_multiplier_, traction_multiplier_, last_body_step_,
                            max_penetration_, boundary_reaction_.x(), boundary_reaction_.y()}},
                          {kContactModulus, contact_modulus_}};
+  if (!reference_strain_.empty()) {
+    std::vector<double> strains;
+    strains.reserve(6 * reference_strain_.size());
+    for (const Vec6& e : reference_strain_) strains.insert(strains.end(), e.data(), e.data() + 6);
+    state.scheme_arrays.push_back({kReferenceStrain, std::move(strains)});
+    state.scheme_arrays.push_back(
+        {kReferenceMotion, {reference_motion_.x(), reference_motion_.y()}});
+  }
   return state;
 }
 
 void QuasiStaticSolver::restore_run_state(const SolverRunState& state) {
-  auto array = [&](const char* name, std::size_t size) -> const std::vector<double>& {
+  // An array of the given size, or nullptr where the state has none by that name.
+  auto optional_array = [&](const char* name, std::size_t size) -> const std::vector<double>* {
     for (const auto& [key, values] : state.scheme_arrays)
       if (key == name) {
         if (values.size() != size)
           throw InvalidValue(fmt::format("quasi-static run state {}", name),
                              std::to_string(values.size()), std::to_string(size));
-        return values;
+        return &values;
       }
+    return nullptr;
+  };
+  auto array = [&](const char* name, std::size_t size) -> const std::vector<double>& {
+    if (const std::vector<double>* values = optional_array(name, size)) return *values;
     throw InvalidValue("quasi-static run state", "no array " + std::string(name),
                        "the arrays of a quasi-static checkpoint");
   };
@@ -97,6 +114,18 @@ void QuasiStaticSolver::restore_run_state(const SolverRunState& state) {
   last_body_step_ = load[2];
   max_penetration_ = load[3];
   boundary_reaction_ = Vec2(load[4], load[5]);
+  // Without the reference (a run without the stabilisation, or before any body moved) the
+  // stabilisation's first sub-increment after the restart resists the whole increment.
+  const std::vector<double>* strains = optional_array(kReferenceStrain, 6 * particles_.size());
+  const std::vector<double>* motion = optional_array(kReferenceMotion, 2);
+  reference_strain_.clear();
+  reference_motion_ = Vec2::Zero();
+  if (strains != nullptr && motion != nullptr) {
+    reference_strain_.resize(particles_.size());
+    for (std::size_t i = 0; i < particles_.size(); ++i)
+      reference_strain_[i] = Eigen::Map<const Vec6>(strains->data() + 6 * i);
+    reference_motion_ = Vec2((*motion)[0], (*motion)[1]);
+  }
   energies_ = state.energies;
   body_forces_ = state.rigid_body_forces;
   time_ = state.time;

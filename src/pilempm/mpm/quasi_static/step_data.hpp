@@ -33,6 +33,14 @@ inline Mat4 in_plane(const Mat6& full) {
   return d;
 }
 
+// The motion of the body that moves most in an increment (zero where none moves).
+inline Vec2 largest_motion(const std::vector<Vec2>& body_step) {
+  Vec2 motion = Vec2::Zero();
+  for (const Vec2& d : body_step)
+    if (d.squaredNorm() > motion.squaredNorm()) motion = d;
+  return motion;
+}
+
 inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }

@@ -125,11 +125,15 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     if (!stabilising) return 0.0;
     const double weight =
         1.0 - mean_stress(p.state[std::size_t(i)].stress) / settings_.low_stress_pressure;
-    return std::clamp(weight, 0.0, 1.0) * settings_.low_stress_stiffness *
+    return std::clamp(weight, 0.0, 1.0) * stabilisation_scale_ * settings_.low_stress_stiffness *
            contact_modulus_[std::size_t(p.material[std::size_t(i)])];
   };
   const bool averaging = settings_.volumetric_averaging;
   const double normal_components = axisymmetric ? 3.0 : 2.0;
+  // The share of the reference's body motion this sub-increment repeats (signed; 0 without).
+  double repeat = 0.0;
+  if (stabilising && !reference_strain_.empty() && reference_motion_.squaredNorm() > 0.0)
+    repeat = largest_motion(body_step).dot(reference_motion_) / reference_motion_.squaredNorm();
 #pragma omp parallel for schedule(static) num_threads(threads_) reduction(|| : failed) \
     reduction(+ : floor_particles)
   for (long i = 0; i < count; ++i) {
@@ -187,7 +191,9 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     Mat6 low_stiffness = Mat6::Zero();
     if (low_modulus > 0.0) {
       low_stiffness = isotropic_stiffness(low_modulus);
-      trial.stabilising_stress[std::size_t(i)] = low_stiffness * strain;
+      const Vec6 reference =
+          repeat != 0.0 ? Vec6(repeat * reference_strain_[std::size_t(i)]) : Vec6::Zero();
+      trial.stabilising_stress[std::size_t(i)] = low_stiffness * (strain - reference);
     }
     if (!tangent) continue;
     Mat4& d = trial.tangent[std::size_t(i)];
