@@ -126,8 +126,6 @@ struct Settings {
   /// Whether a sub-increment solved with the low-stress stabilisation is solved again without
   /// it (the default; false keeps every stabilised solution, for tests of the stabilisation).
   bool low_stress_resolve = true;
-  /// The Newton iterations that solve may take before the stabilised solution is kept.
-  int low_stress_resolve_iterations = 25;
   /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
   /// body): a node whose support s_i = Σ_p S_ip V_p is below support_threshold times its own
   /// volume v_i (h_x h_y, ∫ r dr dz in axisymmetry) is tied to each of its grid neighbours
