@@ -150,8 +150,7 @@ QuasiStaticSolver::Targets QuasiStaticSolver::targets(double fraction, const Loa
 
 std::vector<double> QuasiStaticSolver::prediction(const StepSetup& setup,
                                                   const std::vector<Vec2>& body_step) const {
-  double body_motion = 0.0;
-  for (const Vec2& d : body_step) body_motion = std::max(body_motion, d.norm());
+  const double body_motion = largest_motion(body_step).norm();
   if (!settings_.predictor || !(body_motion > 0.0) || !(last_body_step_ > 0.0)) return {};
   const double scale = body_motion / last_body_step_;
   std::vector<double> predicted(std::size_t(setup.unknowns), 0.0);
@@ -351,7 +350,6 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     }
     const double ratio = trial.residual.norm() / std::max(trial.reference_force, 1.0e-300);
     if (ratio <= settings_.accept_tolerance) {
-      record.converged = true;
       // Accepted above the force tolerance; at or below it only the energy norm had not converged,
       // and the sub-increment is not counted as accepted (its force balance is converged).
       record.accepted = ratio > settings_.force_tolerance;
@@ -393,12 +391,12 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       const int accepted_before = result.accepted;
       const double largest_before = result.largest_accepted_residual;
       record.accepted = false;
-      stabilisation_scale_ = 0.0;
+      stabilisation_suspended_ = true;
       if (settings_.trace != nullptr)
         std::fprintf(settings_.trace, "newton: again without the low-stress stabilisation\n");
       exact = evaluate(setup, du, gravity, traction, body_step, false, trial, result);
       if (exact && !force_converged(trial)) exact = newton();
-      stabilisation_scale_ = 1.0;
+      stabilisation_suspended_ = false;
       // Its solution must also stay within the drift limit of the stabilised one. Nodes that
       // only stress-free sand supports do move by cells in such solves without changing the
       // forces: with a limit of the body's motion the quick case kept 107 stabilised solutions
@@ -510,8 +508,7 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     if (setup.active[c / 2] && setup.dof[c] < 0)
       boundary_reaction_[int(c % 2)] += trial.internal[c] - trial.external[c] - trial.contact[c];
   node_displacement_ = trial.node_displacement;
-  last_body_step_ = 0.0;
-  for (const Vec2& d : body_step) last_body_step_ = std::max(last_body_step_, d.norm());
+  last_body_step_ = largest_motion(body_step).norm();
   gravity_multiplier_ = gravity;
   traction_multiplier_ = traction;
 }

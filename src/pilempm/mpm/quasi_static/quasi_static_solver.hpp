@@ -353,8 +353,8 @@ class QuasiStaticSolver final : public MpmState {
   /// (empty and zero without the stabilisation or before any body moved).
   std::vector<Vec6> reference_strain_;
   Vec2 reference_motion_ = Vec2::Zero();
-  /// 1, or 0 while a sub-increment is solved again without the low-stress stabilisation.
-  double stabilisation_scale_ = 1.0;
+  /// True while a sub-increment is solved again without the low-stress stabilisation.
+  bool stabilisation_suspended_ = false;
   Vec2 boundary_reaction_ = Vec2::Zero();
   double max_penetration_ = 0.0;
   double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, time_ = 0.0;
