@@ -18,6 +18,7 @@
 
 #include "../support/mpm_builders.hpp"
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
+#include "pilempm/core/error.hpp"
 #include "pilempm/mpm/quasi_static/footing_problem.hpp"
 #include "pilempm/mpm/quasi_static/load_path.hpp"
 #include "pilempm/mpm/quasi_static/quasi_static_solver.hpp"
@@ -44,11 +45,31 @@ struct ColumnResult {
   bool converged = false;
 };
 
-ColumnResult run_column(Geometry geometry, int cells, double gravity_multiplier) {
+// The grid of a column of `cells` cells, H high and 2 cells wide (walls, a fixed base, 2 cells
+// of room above).
+Grid column_grid(int cells) {
   const double h = kHeight / cells;
   Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
             GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
   test_support::set_walls_and_fixed_base(grid);
+  return grid;
+}
+
+// The plane-strain elastic column of `cells` cells (2 cells wide, walls and a fixed base) on a
+// solver with `settings`.
+std::unique_ptr<QuasiStaticSolver> elastic_column(int cells, const Settings& settings) {
+  const double h = kHeight / cells;
+  Grid grid = column_grid(cells);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+  return std::make_unique<QuasiStaticSolver>(std::move(grid), std::move(particles),
+                                             std::vector<ModelPtr>{model}, settings);
+}
+
+ColumnResult run_column(Geometry geometry, int cells, double gravity_multiplier) {
+  const double h = kHeight / cells;
+  Grid grid = column_grid(cells);
   Particles particles = test_support::particle_block(
       grid, geometry, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
   std::vector<double> start_y(particles.size());
@@ -142,9 +163,7 @@ struct LiftedColumn {
 LiftedColumn lifted_column(double ghost_stiffness, double lift) {
   const int cells = 8;
   const double h = kHeight / cells;
-  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
-            GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
-  test_support::set_walls_and_fixed_base(grid);
+  Grid grid = column_grid(cells);
   Particles particles = test_support::particle_block(
       grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
   double weight = 0.0;
@@ -210,18 +229,12 @@ TEST(QuasiStaticStabilisation, TheLowStressStiffnessLagsTheSettlementAndKeepsThe
   const double weight = gravity_multiplier * kDensity * 9.81;
   const double u_el = weight * 0.5 * kHeight * kHeight / constrained_modulus();  // at H
   for (const double p_s : {1.0e12, 1.0e-3}) {
-    Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
-              GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
-    test_support::set_walls_and_fixed_base(grid);
-    Particles particles = test_support::particle_block(
-        grid, Geometry::plane_strain,
-        test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
     Settings settings;
     settings.low_stress_stiffness = eta;
     settings.low_stress_pressure = p_s;
     settings.low_stress_resolve = false;  // keep the stabilised solutions
-    auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
-    QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+    const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
+    QuasiStaticSolver& solver = *column;
     const int top = solver.grid().node_index(1, cells);
     LoadStep load;
     load.gravity_multiplier = gravity_multiplier;
@@ -257,26 +270,58 @@ TEST(QuasiStaticStabilisation, TheResolveWithoutItLeavesTheExactSolution) {
   const double h = kHeight / cells, gravity_multiplier = 0.05;
   const double weight = gravity_multiplier * kDensity * 9.81;
   const double u_el = weight * 0.5 * kHeight * kHeight / constrained_modulus();
-  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
-            GridAxis::uniform(0.0, kHeight + 2.0 * h, cells + 2));
-  test_support::set_walls_and_fixed_base(grid);
-  Particles particles = test_support::particle_block(
-      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
   Settings settings;
   settings.low_stress_stiffness = 0.5;
   settings.low_stress_pressure = 1.0e12;
-  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
-  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
+  QuasiStaticSolver& solver = *column;
   LoadStep load;
   load.gravity_multiplier = gravity_multiplier;
   const LoadStepResult step = solver.solve_step(load);
   ASSERT_TRUE(step.converged);
   EXPECT_EQ(step.stabilised, 0);
+  EXPECT_EQ(step.largest_stabilisation_share, 0.0);
+  for (const SubIncrementRecord& sub : step.sub_increments) EXPECT_EQ(sub.stabilisation_share, 0.0);
   const double settlement =
       -solver.last_node_displacement()[std::size_t(solver.grid().node_index(1, cells))].y();
   EXPECT_NEAR(settlement, u_el, 2e-5 * u_el);
   EXPECT_NEAR(solver.boundary_reaction().y() / (weight * kHeight * 2.0 * h), 1.0, 1e-9);
   EXPECT_EQ(solver.energies().damping, 0.0);
+}
+
+// The solves with less of the stabilisation (Settings::low_stress_continuation) go on from each
+// other's solution, and the last one that converges within the drift limit (5 cells) is kept.
+// The elastic column under a load whose settlement without the stabilisation would be 20 cells:
+// with η = 100 it settles u_el / 101, with 0.1 of it u_el / 11 (1.6 cells further), with 0.01
+// of it u_el / 2 (8.2 cells further: beyond the limit), so the solution of the share 0.1 is kept.
+TEST(QuasiStaticStabilisation, TheContinuationKeepsTheSmallestShareWithinTheDriftLimit) {
+  const int cells = 8;
+  const double h = kHeight / cells, u_el = 20.0 * h;
+  const double weight = 2.0 * constrained_modulus() * u_el / (kHeight * kHeight);
+  Settings settings;
+  settings.low_stress_stiffness = 100.0;
+  settings.low_stress_pressure = 1.0e12;
+  settings.low_stress_continuation = {0.1, 0.01};
+  const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
+  QuasiStaticSolver& solver = *column;
+  LoadStep load;
+  load.gravity_multiplier = weight / (kDensity * 9.81);
+  const LoadStepResult step = solver.solve_step(load);
+  ASSERT_TRUE(step.converged) << step.message;
+  ASSERT_EQ(step.sub_increments.size(), 1u);
+  EXPECT_EQ(step.stabilised, 1);
+  EXPECT_EQ(step.sub_increments[0].stabilisation_share, 0.1);
+  EXPECT_EQ(step.largest_stabilisation_share, 0.1);
+  const double settlement =
+      -solver.last_node_displacement()[std::size_t(solver.grid().node_index(1, cells))].y();
+  EXPECT_NEAR(settlement, u_el / 11.0, 1e-6 * u_el);
+  EXPECT_GT(solver.energies().damping, 0.0);  // the kept stabilising stress's work is booked
+
+  // Shares that do not decrease below 1 are refused.
+  settings.low_stress_continuation = {0.1, 0.1};
+  EXPECT_THROW(settings.validate(), InvalidValue);
+  settings.low_stress_continuation = {1.0};
+  EXPECT_THROW(settings.validate(), InvalidValue);
 }
 
 // Where a body moves, the stabilising stress resists only the change of a particle's strain

@@ -180,10 +180,12 @@ std::string mpm_load_steps_header() {
          "solves: 1, or more where a force stop rule was bisected within the step (the columns "
          "sum over them); accepted: sub-increments accepted above the force tolerance "
          "(accept_tolerance) and the largest ||R|| / F_ref of them; stabilised: sub-increments "
-         "that kept the low-stress stabilisation's stress (low_stress_stiffness); penetration: the "
-         "largest of a contact point into a body at the step's end\n"
+         "that kept the low-stress stabilisation's stress (low_stress_stiffness) and the largest "
+         "share of it they kept; penetration: the largest of a contact point into a body at the "
+         "step's end\n"
          "time_s,step,phase,solves,iterations,cuts,accepted,largest_accepted_residual,stabilised,"
-         "unknowns,penetration_m,material_s,assembly_s,factorisation_s,wall_s\n";
+         "stabilisation_share,unknowns,penetration_m,material_s,assembly_s,factorisation_s,wall_"
+         "s\n";
 }
 
 std::string mpm_load_steps_row(const mpm::MpmState& solver, const std::string& phase,
@@ -192,9 +194,10 @@ std::string mpm_load_steps_row(const mpm::MpmState& solver, const std::string& p
                   std::to_string(record.solves), std::to_string(record.iterations),
                   std::to_string(record.cuts), std::to_string(record.accepted),
                   csv_number(record.largest_accepted_residual, 3),
-                  std::to_string(record.stabilised), std::to_string(record.unknowns),
-                  csv_number(penetration, 4), csv_number(record.material_seconds, 4),
-                  csv_number(record.assembly_seconds, 4),
+                  std::to_string(record.stabilised),
+                  csv_number(record.largest_stabilisation_share, 3),
+                  std::to_string(record.unknowns), csv_number(penetration, 4),
+                  csv_number(record.material_seconds, 4), csv_number(record.assembly_seconds, 4),
                   csv_number(record.factorisation_seconds, 4), csv_number(record.wall_seconds, 4)});
 }
 

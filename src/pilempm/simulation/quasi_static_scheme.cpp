@@ -22,6 +22,8 @@ void LoadStepRecord::add(const mpm::quasi_static::LoadStepResult& step, double s
   accepted += step.accepted;
   largest_accepted_residual = std::max(largest_accepted_residual, step.largest_accepted_residual);
   stabilised += step.stabilised;
+  largest_stabilisation_share =
+      std::max(largest_stabilisation_share, step.largest_stabilisation_share);
   most_iterations = std::max(most_iterations, step.iterations);
   unknowns = step.unknowns;
   material_seconds += step.seconds_material;
@@ -163,8 +165,10 @@ std::string QuasiStaticScheme::step_report() const {
       last_step_.accepted > 0
           ? fmt::format(", accepted at ||R|| = {:.1e} F_ref", last_step_.largest_accepted_residual)
           : std::string(),
-      last_step_.stabilised > 0 ? fmt::format(", {} stabilised", last_step_.stabilised)
-                                : std::string(),
+      last_step_.stabilised > 0
+          ? fmt::format(", {} stabilised (share {:.2g})", last_step_.stabilised,
+                        last_step_.largest_stabilisation_share)
+          : std::string(),
       solver_.max_penetration());
 }
 

@@ -28,9 +28,10 @@ struct LoadStepRecord {
   long iterations = 0, cuts = 0;
   long accepted = 0;                       ///< sub-increments accepted above the tolerance
   double largest_accepted_residual = 0.0;  ///< the largest ||R|| / F_ref of them
-  long stabilised = 0;      ///< sub-increments that kept the low-stress stabilisation's stress
-  int most_iterations = 0;  ///< of one solve
-  int unknowns = 0;         ///< of the last system
+  long stabilised = 0;  ///< sub-increments that kept the low-stress stabilisation's stress
+  double largest_stabilisation_share = 0.0;  ///< the largest share of it they kept
+  int most_iterations = 0;                   ///< of one solve
+  int unknowns = 0;                          ///< of the last system
   double material_seconds = 0.0, assembly_seconds = 0.0, factorisation_seconds = 0.0;
   double wall_seconds = 0.0;
 

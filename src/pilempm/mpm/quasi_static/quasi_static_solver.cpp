@@ -48,6 +48,13 @@ void Settings::validate() const {
   if (!(low_stress_stiffness >= 0.0) || !std::isfinite(low_stress_stiffness))
     throw InvalidValue("low_stress_stiffness", format_value(low_stress_stiffness), ">= 0");
   positive(low_stress_pressure, "low_stress_pressure");
+  double previous_share = 1.0;
+  for (const double share : low_stress_continuation) {
+    if (!(share > 0.0 && share < previous_share))
+      throw InvalidValue("low_stress_continuation", format_value(share),
+                         fmt::format("in (0, {:g}): decreasing shares below 1", previous_share));
+    previous_share = share;
+  }
   if (max_iterations < 1)
     throw InvalidValue("max_iterations", std::to_string(max_iterations), ">= 1");
   if (line_search_steps < 0)
@@ -385,36 +392,70 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     // without it, from its stabilised solution, and that solution is kept only if this fails.
     bool exact = false;
     if (settings_.low_stress_resolve) {
-      const std::vector<double> stabilised_du = du;
-      Trial stabilised_trial = trial;
-      const bool stabilised_accepted = record.accepted;
-      const int accepted_before = result.accepted;
-      const double largest_before = result.largest_accepted_residual;
-      record.accepted = false;
-      stabilisation_suspended_ = true;
-      if (settings_.trace != nullptr)
-        std::fprintf(settings_.trace, "newton: again without the low-stress stabilisation\n");
-      exact = evaluate(setup, du, gravity, traction, body_step, false, trial, result);
-      if (exact && !force_converged(trial)) exact = newton();
-      stabilisation_suspended_ = false;
-      // Its solution must also stay within the drift limit of the stabilised one. Nodes that
-      // only stress-free sand supports do move by cells in such solves without changing the
-      // forces: with a limit of the body's motion the quick case kept 107 stabilised solutions
-      // instead of 4 and its capacity fell by a quarter, with one cell 14, and its head force
-      // scattered by 12 % instead of 6 % (docs/quasi-static.md).
-      if (exact && drifted(stabilised_du, du)) exact = false;
+      // First without the stabilisation, from its solution; where that fails, from the same
+      // solution with less of it in stages (Settings::low_stress_continuation), each solve
+      // starting from the last one's solution, and from the last stage without it again. The
+      // solution of the smallest share that converged is kept.
+      std::vector<double> kept_du = du;
+      Trial kept_trial = trial;
+      double kept_share = 1.0;
+      bool kept_accepted = record.accepted;
+      int kept_count = result.accepted;
+      double kept_largest = result.largest_accepted_residual;
+      // One solve at `scale` from (du, trial); on success its solution is kept, else (du, trial)
+      // go back to the last kept solution.
+      const auto stage = [&](double scale) {
+        record.accepted = false;
+        result.accepted = kept_count;
+        result.largest_accepted_residual = kept_largest;
+        stabilisation_scale_ = scale;
+        if (settings_.trace != nullptr)
+          std::fprintf(settings_.trace, "newton: again with %.3g of the low-stress stabilisation\n",
+                       scale);
+        bool ok = evaluate(setup, du, gravity, traction, body_step, false, trial, result);
+        if (ok && !force_converged(trial)) ok = newton();
+        // Its solution must also stay within the drift limit of the one it started from. Nodes
+        // that only stress-free sand supports do move by cells in such solves without changing
+        // the forces: with a limit of the body's motion the quick case kept 107 stabilised
+        // solutions instead of 4 and its capacity fell by a quarter, with one cell 14, and its
+        // head force scattered by 12 % instead of 6 % (docs/quasi-static.md).
+        if (ok && drifted(kept_du, du)) ok = false;
+        if (ok) {
+          kept_du = du;
+          kept_trial = trial;
+          kept_share = scale;
+          kept_accepted = record.accepted;
+          kept_count = result.accepted;
+          kept_largest = result.largest_accepted_residual;
+        } else {
+          du = kept_du;
+          trial = kept_trial;
+        }
+        return ok;
+      };
+      exact = stage(0.0);
       if (!exact) {
-        du = stabilised_du;
-        trial = std::move(stabilised_trial);
-        record.accepted = stabilised_accepted;
-        result.accepted = accepted_before;
-        result.largest_accepted_residual = largest_before;
-        result.message.clear();
+        bool all = true;
+        for (const double scale : settings_.low_stress_continuation)
+          if (!(all = stage(scale))) break;
+        if (all && !settings_.low_stress_continuation.empty()) exact = stage(0.0);
       }
+      stabilisation_scale_ = 1.0;
+      du = kept_du;
+      trial = std::move(kept_trial);
+      record.accepted = kept_accepted;
+      result.accepted = kept_count;
+      result.largest_accepted_residual = kept_largest;
+      if (!exact) result.message.clear();
+      record.stabilisation_share = kept_share;
+    } else {
+      record.stabilisation_share = 1.0;
     }
     if (!exact) {
       record.stabilised = true;
       ++result.stabilised;
+      result.largest_stabilisation_share =
+          std::max(result.largest_stabilisation_share, record.stabilisation_share);
     }
   }
   commit(setup, du, trial, gravity, traction, body_step);

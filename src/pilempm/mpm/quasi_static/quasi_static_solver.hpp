@@ -118,14 +118,21 @@ struct Settings {
   /// most; Δε_ref = 0 while no body has moved): the stress resists the change of the particle's
   /// motion from one load step to the next, as inertia does, and vanishes where the sand flows
   /// steadily past a pile. It is not kept past the sub-increment. The stabilisation only finds
-  /// the way: each sub-increment solved with it is solved again without it, from its solution,
-  /// and the stabilised solution is kept (its work booked as damping, Energies::damping,
-  /// counted in LoadStepResult::stabilised) only where that solve fails. 0: none.
+  /// the way: each sub-increment solved with it is solved again with less of it, in the stages
+  /// of low_stress_continuation, and then without it, each solve starting from the last one's
+  /// solution; the solution of the smallest share that converged is kept (a share above 0
+  /// counted in LoadStepResult::stabilised, its work booked as damping, Energies::damping).
+  /// 0: none.
   double low_stress_stiffness = 0.0;
   double low_stress_pressure = 100.0;  ///< p_s [Pa]
-  /// Whether a sub-increment solved with the low-stress stabilisation is solved again without
-  /// it (the default; false keeps every stabilised solution, for tests of the stabilisation).
+  /// Whether a sub-increment solved with the low-stress stabilisation is solved again with less
+  /// of it (the default; false keeps every stabilised solution, for tests of the stabilisation).
   bool low_stress_resolve = true;
+  /// The shares of η solved in turn between the full stabilisation and none, decreasing, each
+  /// in (0, 1). Without stages the solve without the stabilisation, which starts from the
+  /// stabilised solution's imbalance (about 10⁻² F_ref in MPM-2), mostly failed there, and the
+  /// full stabilisation's solution was kept (docs/centrifuge.md, "The full model").
+  std::vector<double> low_stress_continuation = {0.1, 0.01};
   /// Stabilisation of nodes that particles barely reach (cut cells at a free surface or a
   /// body): a node whose support s_i = Σ_p S_ip V_p is below support_threshold times its own
   /// volume v_i (h_x h_y, ∫ r dr dz in axisymmetry) is tied to each of its grid neighbours
@@ -193,8 +200,10 @@ struct SubIncrementRecord {
   bool converged = false;
   /// Accepted after max_iterations at ||R|| / F_ref above force_tolerance (accept_tolerance).
   bool accepted = false;
-  /// Kept the low-stress stabilisation's stress (its solve without it failed).
+  /// Kept the low-stress stabilisation's stress (its solve without it failed) ...
   bool stabilised = false;
+  /// ... and the share of it kept (Settings::low_stress_continuation; 1: the full one).
+  double stabilisation_share = 0.0;
   std::vector<IterationRecord> iterations;
 };
 
@@ -208,6 +217,7 @@ struct LoadStepResult {
   /// Sub-increments that kept the low-stress stabilisation's stress (Settings::
   /// low_stress_stiffness): their solve without it failed.
   int stabilised = 0;
+  double largest_stabilisation_share = 0.0;  ///< the largest share of η they kept
   double largest_accepted_residual = 0.0;
   std::vector<SubIncrementRecord> sub_increments;
   std::string message;  ///< why it failed
@@ -353,8 +363,9 @@ class QuasiStaticSolver final : public MpmState {
   /// (empty and zero without the stabilisation or before any body moved).
   std::vector<Vec6> reference_strain_;
   Vec2 reference_motion_ = Vec2::Zero();
-  /// True while a sub-increment is solved again without the low-stress stabilisation.
-  bool stabilisation_suspended_ = false;
+  /// The share of the low-stress stabilisation in force (1; lowered while a sub-increment is
+  /// solved again with less of it, 0 without it).
+  double stabilisation_scale_ = 1.0;
   Vec2 boundary_reaction_ = Vec2::Zero();
   double max_penetration_ = 0.0;
   double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, time_ = 0.0;

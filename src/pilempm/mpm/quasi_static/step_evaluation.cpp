@@ -108,7 +108,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.on_floor.resize(std::size_t(count));
   trial.strain_increment.resize(std::size_t(count));
   // Empty without the low-stress stabilisation (the common case): nothing to add per particle.
-  const bool stabilising = settings_.low_stress_stiffness > 0.0 && !stabilisation_suspended_;
+  const bool stabilising = settings_.low_stress_stiffness > 0.0 && stabilisation_scale_ > 0.0;
   trial.stabilising_stress.assign(stabilising ? std::size_t(count) : 0, Vec6::Zero());
   trial.gradient.resize(std::size_t(count));
   trial.hoop.resize(std::size_t(count));
@@ -125,7 +125,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     if (!stabilising) return 0.0;
     const double weight =
         1.0 - mean_stress(p.state[std::size_t(i)].stress) / settings_.low_stress_pressure;
-    return std::clamp(weight, 0.0, 1.0) * settings_.low_stress_stiffness *
+    return std::clamp(weight, 0.0, 1.0) * settings_.low_stress_stiffness * stabilisation_scale_ *
            contact_modulus_[std::size_t(p.material[std::size_t(i)])];
   };
   const bool averaging = settings_.volumetric_averaging;
