@@ -324,6 +324,29 @@ TEST(QuasiStaticStabilisation, TheContinuationKeepsTheSmallestShareWithinTheDrif
   EXPECT_THROW(settings.validate(), InvalidValue);
 }
 
+// A converged solution that turns a particle inside out is not taken but cut. The elastic column
+// under a load whose strain at the base would be 1.2 in one step (det(I + G) < 0 there; the top
+// settles 4.8 cells, within the drift limit): the step is cut, and in halves (each from the last
+// configuration) no particle inverts; every volume stays positive.
+TEST(QuasiStaticColumn, ASolutionThatTurnsAParticleInsideOutIsCut) {
+  const int cells = 8;
+  const double strain_at_base = 1.2;
+  const double weight = strain_at_base * constrained_modulus() / kHeight;
+  const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, Settings{});
+  QuasiStaticSolver& solver = *column;
+  LoadStep load;
+  load.gravity_multiplier = weight / (kDensity * 9.81);
+  const LoadStepResult step = solver.solve_step(load);
+  ASSERT_TRUE(step.converged) << step.message;
+  EXPECT_GE(step.cuts, 1);
+  ASSERT_FALSE(step.sub_increments.empty());
+  EXPECT_FALSE(step.sub_increments.front().converged);  // the whole step: inverted, cut
+  for (std::size_t p = 0; p < solver.particles().size(); ++p)
+    EXPECT_GT(solver.particles().volume[p], 0.0) << "particle " << p;
+  EXPECT_NEAR(solver.boundary_reaction().y() / (weight * kHeight * 2.0 * kHeight / cells), 1.0,
+              1e-9);
+}
+
 // Where a body moves, the stabilising stress resists only the change of a particle's strain
 // increment from the last sub-increment in which the body moved (scaled by the share of that
 // motion repeated), as inertia resists a change of velocity. An elastic layer (the strip

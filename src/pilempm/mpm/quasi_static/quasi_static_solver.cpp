@@ -380,10 +380,29 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       if (std::abs(to[d] - (from.empty() ? 0.0 : from[d])) > drift_limit) return true;
     return false;
   };
+  // A solution that turns a particle inside out (the volume ratio of its increment, det(I + G)
+  // (1 + Δε_θθ) in axisymmetry, not positive) is not taken either, though its residual may be
+  // in balance: the stress update integrates the strain and knows nothing of the inversion
+  // (MPM-2 with the low-stress stabilisation committed a particle of negative volume so).
+  const auto inverted = [&](const Trial& t) -> std::string {
+    for (std::size_t i = 0; i < t.gradient.size(); ++i) {
+      const double ratio = (Mat2::Identity() + t.gradient[i]).determinant() * (1.0 + t.hoop[i]);
+      if (!(ratio > 0.0))
+        return fmt::format(
+            "particle {} at ({:.5g}, {:.5g}) m would be turned inside out (volume "
+            "ratio {:.3g} in the sub-increment)",
+            i, particles_.position[i].x(), particles_.position[i].y(), ratio);
+    }
+    return {};
+  };
   if (!newton()) return false;
   if (drifted({}, du)) {
     result.message =
         fmt::format("a node moved more than {:.3g} m in the sub-increment", drift_limit);
+    return false;
+  }
+  if (std::string why = inverted(trial); !why.empty()) {
+    result.message = std::move(why);
     return false;
   }
   record.converged = true;
@@ -419,7 +438,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
         // the forces: with a limit of the body's motion the quick case kept 107 stabilised
         // solutions instead of 4 and its capacity fell by a quarter, with one cell 14, and its
         // head force scattered by 12 % instead of 6 % (docs/quasi-static.md).
-        if (ok && drifted(kept_du, du)) ok = false;
+        if (ok && (drifted(kept_du, du) || !inverted(trial).empty())) ok = false;
         if (ok) {
           kept_du = du;
           kept_trial = trial;
