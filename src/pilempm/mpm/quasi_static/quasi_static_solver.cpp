@@ -407,8 +407,8 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   }
   record.converged = true;
   if (settings_.low_stress_stiffness > 0.0) {
-    // The low-stress stabilisation only finds the way: the sub-increment is solved again
-    // without it, from its stabilised solution, and that solution is kept only if this fails.
+    // The low-stress stabilisation only finds the way: the sub-increment is solved again with
+    // less of it and without it, and the stabilised solution is kept only where those fail.
     bool exact = false;
     if (settings_.low_stress_resolve) {
       // First without the stabilisation, from its solution; where that fails, from the same
@@ -438,7 +438,9 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
         // the forces: with a limit of the body's motion the quick case kept 107 stabilised
         // solutions instead of 4 and its capacity fell by a quarter, with one cell 14, and its
         // head force scattered by 12 % instead of 6 % (docs/quasi-static.md).
-        if (ok && (drifted(kept_du, du) || !inverted(trial).empty())) ok = false;
+        // The drift limit and the inversion check hold for every stage's solution as for the
+        // first one's.
+        if (ok && (drifted(kept_du, du) || drifted({}, du) || !inverted(trial).empty())) ok = false;
         if (ok) {
           kept_du = du;
           kept_trial = trial;
