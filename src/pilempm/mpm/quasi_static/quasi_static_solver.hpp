@@ -200,9 +200,8 @@ struct SubIncrementRecord {
   bool converged = false;
   /// Accepted after max_iterations at ||R|| / F_ref above force_tolerance (accept_tolerance).
   bool accepted = false;
-  /// Kept the low-stress stabilisation's stress (its solve without it failed) ...
-  bool stabilised = false;
-  /// ... and the share of it kept (Settings::low_stress_continuation; 1: the full one).
+  /// The share of the low-stress stabilisation's stress kept (Settings::
+  /// low_stress_continuation; 1: the full one; 0: none, its solve without it converged).
   double stabilisation_share = 0.0;
   std::vector<IterationRecord> iterations;
 };
