@@ -293,7 +293,8 @@ TEST(QuasiStaticStabilisation, TheResolveWithoutItLeavesTheExactSolution) {
 // other's solution, and the last one that converges within the drift limit (5 cells) is kept.
 // The elastic column under a load whose settlement without the stabilisation would be 20 cells:
 // with η = 100 it settles u_el / 101, with 0.1 of it u_el / 11 (1.6 cells further), with 0.01
-// of it u_el / 2 (8.2 cells further: beyond the limit), so the solution of the share 0.1 is kept.
+// of it u_el / 2 (8.2 cells further: beyond the limit; its base strain of 2.5 would also invert
+// the lowest particles), so the solution of the share 0.1 is kept.
 TEST(QuasiStaticStabilisation, TheContinuationKeepsTheSmallestShareWithinTheDriftLimit) {
   const int cells = 8;
   const double h = kHeight / cells, u_el = 20.0 * h;
