@@ -9,6 +9,7 @@
 // converges with order 1, the displacement at the particles with order 2.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -346,6 +347,69 @@ TEST(QuasiStaticColumn, ASolutionThatTurnsAParticleInsideOutIsCut) {
     EXPECT_GT(solver.particles().volume[p], 0.0) << "particle " << p;
   EXPECT_NEAR(solver.boundary_reaction().y() / (weight * kHeight * 2.0 * kHeight / cells), 1.0,
               1e-9);
+}
+
+// The contact points (the corners of the particles' domains, carried with each particle's affine
+// motion) are drawn back within |l| of their particle along x and y (|l| the domain's
+// half-diagonal, at most a cell) at the end of every sub-increment and at the start of each load
+// step (for a checkpoint written before the bound):
+// in MPM-2 the sand sheared along the shaft had carried them up to 22 cells from their
+// particles, where ∇S_k · (x_q − x_p) multiplied a
+// point's force on the nodes, and the nodes' motion at the point, by about 20. A checkpoint's
+// contact point 20 cells away comes back to the bound in a load step of no load, and after a
+// load step every point lies within it.
+TEST(QuasiStaticColumn, ContactPointsStayNearTheirParticles) {
+  const int cells = 4;
+  const double h = kHeight / cells;
+  const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, Settings{});
+  QuasiStaticSolver& solver = *column;
+  const auto corners = [&]() {
+    for (const auto& [name, values] : solver.run_state().scheme_arrays)
+      if (name == "contact_corner_position_m") return values;
+    ADD_FAILURE() << "no contact points in the run state";
+    return std::vector<double>{};
+  };
+  // The largest distance of a contact point beyond its particle's domain [m].
+  const auto largest_excess = [&]() {
+    const std::vector<double> points = corners();
+    const Particles& p = solver.particles();
+    double excess = 0.0;
+    for (std::size_t c = 0; 2 * c + 1 < points.size(); ++c) {
+      const std::size_t i = c / 4;
+      for (int a = 0; a < 2; ++a)
+        excess = std::max(excess, std::abs(points[2 * c + std::size_t(a)] - p.position[i][a]) -
+                                      std::min(p.half_size[i].norm(), h));
+    }
+    return excess;
+  };
+  EXPECT_LE(largest_excess(), 1e-15);
+
+  SolverRunState state = solver.run_state();
+  for (auto& [name, values] : state.scheme_arrays)
+    if (name == "contact_corner_position_m") {
+      values[0] += 20.0 * h;  // particle 0's first corner (−l_x, −l_y) carried 20 cells away
+      values[1] -= 20.0 * h;
+    }
+  solver.restore_run_state(state);
+  // A load step in which nothing changes: the point comes back to (+|l|, −|l|) from its particle
+  // at the start of the step, and nothing else moves.
+  LoadStep nothing;
+  nothing.gravity_multiplier = 0.0;
+  const LoadStepResult still = solver.solve_step(nothing);
+  ASSERT_TRUE(still.converged) << still.message;
+  const std::vector<double> restored = corners();
+  const Vec2& x = solver.particles().position[0];
+  const double reach = solver.particles().half_size[0].norm();
+  ASSERT_LT(reach, h);
+  EXPECT_NEAR(restored[0], x.x() + reach, 1e-15);
+  EXPECT_NEAR(restored[1], x.y() - reach, 1e-15);
+  EXPECT_LE(largest_excess(), 1e-15);
+
+  LoadStep load;
+  load.gravity_multiplier = 1.0;
+  const LoadStepResult step = solver.solve_step(load);
+  ASSERT_TRUE(step.converged) << step.message;
+  EXPECT_LE(largest_excess(), 1e-15);
 }
 
 // Where a body moves, the stabilising stress resists only the change of a particle's strain

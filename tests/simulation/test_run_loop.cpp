@@ -75,6 +75,45 @@ TEST(RunLoop, RecordsAndSnapshotsLandExactlyOnTheirTimes) {
   EXPECT_EQ(ends[0].steps, counter.steps);
 }
 
+// A scheme that never reports a step as ending on its target, as the quasi-static scheme does for
+// a step in which a force rule was bisected (its last re-solve may end on the target itself):
+// the loop takes a step that ends at the target time as at the target. MPM-2 on the quasi-static
+// analysis stopped so in its relaxation ("the next output time ... is not after the time").
+class NeverAtTarget final : public Scheme {
+ public:
+  explicit NeverAtTarget(Scheme& inner) : inner_(inner) {}
+  std::string begin_phase(std::size_t index) override { return inner_.begin_phase(index); }
+  Advance advance(double target) override {
+    Advance advance = inner_.advance(target);
+    advance.at_target = false;
+    return advance;
+  }
+  PhaseProgress phase_progress() const override { return inner_.phase_progress(); }
+  double phase_end_time() const override { return inner_.phase_end_time(); }
+  double time() const override { return inner_.time(); }
+  long steps() const override { return inner_.steps(); }
+  double step_length() override { return inner_.step_length(); }
+  bool inertial() const override { return inner_.inertial(); }
+  const mpm::MpmState& state() const override { return inner_.state(); }
+  mpm::MpmState& state() override { return inner_.state(); }
+
+ private:
+  Scheme& inner_;
+};
+
+TEST(RunLoop, AStepEndingOnTheTargetIsAtTheTargetWhateverTheSchemeSays) {
+  const MpmCase c = column_case();
+  ExplicitScheme explicit_scheme(c);
+  NeverAtTarget scheme(explicit_scheme);
+  CountingObserver counter;
+  const std::vector<MpmPhaseEnd> ends = run_phases(c, scheme, 0, {&counter});
+  ASSERT_EQ(ends.size(), 1u);
+  EXPECT_EQ(ends[0].reason, "duration_s");
+  ASSERT_EQ(counter.records, 5);
+  for (int k = 0; k < 5; ++k) EXPECT_NEAR(counter.record_times[k], 0.005 * k, 1e-15);
+  EXPECT_EQ(counter.snapshots, 3);
+}
+
 // Runs `run` on a thread; a run that has not ended after a minute ends the test program with a
 // failure instead of hanging the suite.
 void expect_error_within_a_minute(const MpmCase& c, const std::string& key) {

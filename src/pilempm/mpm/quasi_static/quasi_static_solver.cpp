@@ -118,6 +118,24 @@ QuasiStaticSolver::QuasiStaticSolver(Grid grid, Particles particles,
   contact_modulus_.assign(materials_.size(), 0.0);
 }
 
+void QuasiStaticSolver::bound_corners(std::size_t i) {
+  const Vec2& x = particles_.position[i];
+  const GridAxis& x_axis = grid_.x_axis();
+  const GridAxis& y_axis = grid_.y_axis();
+  // |l|: the half-diagonal of the domain, which holds its corners whatever its rotation.
+  const double reach = particles_.half_size[i].norm();
+  const Vec2 bound(std::min(reach, x_axis.spacing(x_axis.cell_of(x.x()))),
+                   std::min(reach, y_axis.spacing(y_axis.cell_of(x.y()))));
+  for (int q = 0; q < kCorners; ++q) {
+    Vec2& corner = corner_position_[i * kCorners + std::size_t(q)];
+    const Vec2 offset = corner - x;
+    // Only a point outside is moved (so that bounding again changes nothing, to the bit).
+    if (offset.x() < -bound.x() || offset.x() > bound.x() || offset.y() < -bound.y() ||
+        offset.y() > bound.y())
+      corner = x + offset.cwiseMax(-bound).cwiseMin(bound);
+  }
+}
+
 int QuasiStaticSolver::add_rigid_body(RigidBody body) {
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
   if (body.axisymmetric() != axisymmetric)
@@ -126,10 +144,27 @@ int QuasiStaticSolver::add_rigid_body(RigidBody body) {
   // A body put where particles are (a pile wished in place) has the corners of the particles
   // next to it inside it, up to half a particle deep: their penalty forces would be of the order
   // of the modulus instead of the stress. Such contact points start on the surface instead, free
-  // of strain and force (as an initial overclosure is adjusted in finite element contact).
-  for (Vec2& corner : corner_position_) {
+  // of strain and force (as an initial overclosure is adjusted in finite element contact): moved
+  // towards their particle's centre, where that lies outside the body, so that they stay within
+  // the particle's domain (bound_corners would otherwise draw them back inside), else along the
+  // surface's normal.
+  for (std::size_t c = 0; c < corner_position_.size(); ++c) {
+    Vec2& corner = corner_position_[c];
     const SurfaceQuery hit = body.query(corner);
-    if (hit.distance < 0.0) corner -= hit.distance * hit.normal;
+    if (!(hit.distance < 0.0)) continue;
+    const Vec2& centre = particles_.position[c / kCorners];
+    if (!(body.query(centre).distance > 0.0)) {
+      corner -= hit.distance * hit.normal;
+      continue;
+    }
+    // Bisection on the segment from the centre (outside) to the corner (inside): 60 halvings
+    // take it to round-off; the end kept is the one outside.
+    double outside = 0.0, inside = 1.0;
+    for (int k = 0; k < 60; ++k) {
+      const double middle = 0.5 * (outside + inside);
+      (body.query(centre + middle * (corner - centre)).distance < 0.0 ? inside : outside) = middle;
+    }
+    corner = centre + outside * (corner - centre);
   }
   BodyForce force;
   force.parts.assign(std::size_t(body.part_count()), Vec2::Zero());
@@ -511,6 +546,7 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
     // cpGIMP: the domain follows the stretch, as in the explicit solver.
     if (stretch_domains) p.half_size[i] = stretched_half_size(p.initial_half_size[i], deformation);
+    bound_corners(i);
     if (!grid_.contains(p.position[i].x(), p.position[i].y()) ||
         (settings_.geometry == Geometry::axisymmetric && !(p.position[i].x() > 0.0)))
       throw Error(fmt::format("quasi-static: particle {} left the grid at ({}, {})", i,
@@ -563,6 +599,10 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
     throw InvalidValue("load step body displacements",
                        std::to_string(load.body_displacement.size()),
                        fmt::format("0 or {} (one per rigid body)", bodies_.size()));
+  // The contact points within their particles' domains: no change where the last step's commit
+  // bounded them; a state restored from a checkpoint written before the bound gets them bounded
+  // here (not in restore_run_state, which runs before the particles are restored).
+  for (std::size_t i = 0; i < particles_.size(); ++i) bound_corners(i);
   // The state at the start of the step, restored if the step fails.
   const Particles start_particles = particles_;
   const std::vector<RigidBody> start_bodies = bodies_;

@@ -336,6 +336,8 @@ class QuasiStaticSolver final : public MpmState {
   bool evaluate(const StepSetup& setup, const std::vector<double>& du, double gravity,
                 double traction, const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
                 LoadStepResult& result) const;
+  // Keeps particle i's contact points within |l| of it along x and y (corner_position_).
+  void bound_corners(std::size_t i);
   void commit(const StepSetup& setup, const std::vector<double>& du, const Trial& trial,
               double gravity, double traction, const std::vector<Vec2>& body_step);
 
@@ -349,7 +351,11 @@ class QuasiStaticSolver final : public MpmState {
   /// Tangential contact force per particle corner at the last converged state (4 per particle).
   std::vector<ContactHistory> contact_history_;
   /// The contact points: the corners of the particles' domains at creation, moved since with
-  /// the particles' affine motion (4 per particle) [m].
+  /// the particles' affine motion (4 per particle) [m], and at the end of each sub-increment
+  /// (and the start of each load step) drawn back, component by component, to within |l| of the
+  /// particle (l its domain's half-lengths, |l| at most one cell of the grid at the particle):
+  /// sand sheared along a pile's shaft carried its corners 20 cells away, where
+  /// ∇S_k · (x_q − x_p) multiplied their forces and motions by 20 (MPM-2, docs/quasi-static.md).
   std::vector<Vec2> corner_position_;
   /// The modulus of the contact penalty per material [Pa]: the largest constrained modulus of
   /// the material's particles at the first load step, then fixed (a penalty that followed the
