@@ -153,7 +153,8 @@ Advance QuasiStaticScheme::advance(double target) {
     restore(solver_, *start);
     solve_load_step(met * duration);
     advance.dt = met * duration;
-    advance.at_target = false;
+    // Short of the target unless the crossing lies at the step's very end.
+    advance.at_target = advance.at_target && met == 1.0;
   }
   advance.stop_reason = control_->stop_reason(plan.landing_rule);
   return advance;

@@ -84,8 +84,8 @@ std::vector<MpmPhaseEnd> run_phases(const MpmCase& c, Scheme& scheme, std::size_
         const Advance advance = scheme.advance(target);
         notify([&](RunObserver& o) { o.after_step(scheme, phase, advance.dt); });
         end.reason = advance.stop_reason;
-        // A step the scheme shortened (a force rule bisected within it) that still ends on the
-        // target is at the target: else the same target would come again.
+        // A step that ends on the target is at the target whatever the scheme reports: else the
+        // same target would come again.
         if (!end.reason.empty() || !(advance.at_target || scheme.time() >= target)) continue;
         // At the target time.
         if (next_energy == target) {
