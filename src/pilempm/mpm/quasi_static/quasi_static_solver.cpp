@@ -18,6 +18,17 @@ using namespace detail;
 
 namespace {
 
+// Bisection on a segment's parameter s between `inside` (where is_inside(s) holds) and `outside`
+// (where it does not): 60 halvings take it to round-off; returns the end that is outside.
+template <class IsInside>
+double last_outside(double inside, double outside, const IsInside& is_inside) {
+  for (int k = 0; k < 60; ++k) {
+    const double middle = 0.5 * (inside + outside);
+    (is_inside(middle) ? inside : outside) = middle;
+  }
+  return outside;
+}
+
 // The contact counts of an iteration record: the points in contact and slipping at `now`, and
 // those whose state changed from `was` (none when `was` is null: the start of an increment).
 IterationRecord contact_record(const std::vector<PointContact>& now,
@@ -118,21 +129,39 @@ QuasiStaticSolver::QuasiStaticSolver(Grid grid, Particles particles,
   contact_modulus_.assign(materials_.size(), 0.0);
 }
 
-void QuasiStaticSolver::bound_corners(std::size_t i) {
-  const Vec2& x = particles_.position[i];
+void QuasiStaticSolver::bound_corners() {
   const GridAxis& x_axis = grid_.x_axis();
   const GridAxis& y_axis = grid_.y_axis();
-  // |l|: the half-diagonal of the domain, which holds its corners whatever its rotation.
-  const double reach = particles_.half_size[i].norm();
-  const Vec2 bound(std::min(reach, x_axis.spacing(x_axis.cell_of(x.x()))),
-                   std::min(reach, y_axis.spacing(y_axis.cell_of(x.y()))));
-  for (int q = 0; q < kCorners; ++q) {
-    Vec2& corner = corner_position_[i * kCorners + std::size_t(q)];
-    const Vec2 offset = corner - x;
-    // Only a point outside is moved (so that bounding again changes nothing, to the bit).
-    if (offset.x() < -bound.x() || offset.x() > bound.x() || offset.y() < -bound.y() ||
-        offset.y() > bound.y())
-      corner = x + offset.cwiseMax(-bound).cwiseMin(bound);
+  std::vector<detail::RoundedSurface> surfaces;
+  for (const RigidBody& body : bodies_)
+    surfaces.emplace_back(body, settings_.contact.vertex_radius * grid_.min_spacing());
+  for (std::size_t i = 0; i < particles_.size(); ++i) {
+    const Vec2& x = particles_.position[i];
+    // |l|: the half-diagonal of the domain, which holds its corners whatever its rotation.
+    const double reach = particles_.half_size[i].norm();
+    const Vec2 bound(std::min(reach, x_axis.spacing(x_axis.cell_of(x.x()))),
+                     std::min(reach, y_axis.spacing(y_axis.cell_of(x.y()))));
+    for (int q = 0; q < kCorners; ++q) {
+      Vec2& corner = corner_position_[i * kCorners + std::size_t(q)];
+      const Vec2 offset = corner - x;
+      // The offset scaled towards the particle until both components are within the bound (a
+      // point within it, to a relative 1e-12, does not move, so bounding again changes nothing).
+      double scale = 1.0;
+      for (int a = 0; a < 2; ++a)
+        if (std::abs(offset[a]) > bound[a] * (1.0 + 1.0e-12))
+          scale = std::min(scale, bound[a] / std::abs(offset[a]));
+      if (scale == 1.0) continue;
+      // Never deeper into a body than the point was (nor into one it was outside of): the
+      // smallest scale in [scale, 1] at which it is not, by bisection.
+      for (const detail::RoundedSurface& surface : surfaces) {
+        const double floor = std::min(surface.query(corner).distance, 0.0);
+        const auto too_deep = [&](double s) {
+          return surface.query(x + s * offset).distance < floor;
+        };
+        if (too_deep(scale)) scale = last_outside(scale, 1.0, too_deep);
+      }
+      corner = x + scale * offset;
+    }
   }
 }
 
@@ -157,14 +186,11 @@ int QuasiStaticSolver::add_rigid_body(RigidBody body) {
       corner -= hit.distance * hit.normal;
       continue;
     }
-    // Bisection on the segment from the centre (outside) to the corner (inside): 60 halvings
-    // take it to round-off; the end kept is the one outside.
-    double outside = 0.0, inside = 1.0;
-    for (int k = 0; k < 60; ++k) {
-      const double middle = 0.5 * (outside + inside);
-      (body.query(centre + middle * (corner - centre)).distance < 0.0 ? inside : outside) = middle;
-    }
-    corner = centre + outside * (corner - centre);
+    // On the segment from the centre (outside) to the corner (inside).
+    const Vec2 offset = corner - centre;
+    corner = centre + last_outside(1.0, 0.0, [&](double s) {
+                        return body.query(centre + s * offset).distance < 0.0;
+                      }) * offset;
   }
   BodyForce force;
   force.parts.assign(std::size_t(body.part_count()), Vec2::Zero());
@@ -546,7 +572,6 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
     // cpGIMP: the domain follows the stretch, as in the explicit solver.
     if (stretch_domains) p.half_size[i] = stretched_half_size(p.initial_half_size[i], deformation);
-    bound_corners(i);
     if (!grid_.contains(p.position[i].x(), p.position[i].y()) ||
         (settings_.geometry == Geometry::axisymmetric && !(p.position[i].x() > 0.0)))
       throw Error(fmt::format("quasi-static: particle {} left the grid at ({}, {})", i,
@@ -580,6 +605,8 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     energies_.contact_work += 0.5 * (body_forces_[b].total + forces[b].total).dot(-body_step[b]);
     bodies_[b].translate(body_step[b]);
   }
+  // The contact points back near their particles, with the bodies where they now are.
+  bound_corners();
   body_forces_ = std::move(forces);
   // The reaction of the constraints on the soil: the residual f_int - f_ext - f_contact at the
   // constrained components (what the constraint has to add for equilibrium there).
@@ -602,7 +629,7 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   // The contact points within their particles' domains: no change where the last step's commit
   // bounded them; a state restored from a checkpoint written before the bound gets them bounded
   // here (not in restore_run_state, which runs before the particles are restored).
-  for (std::size_t i = 0; i < particles_.size(); ++i) bound_corners(i);
+  bound_corners();
   // The state at the start of the step, restored if the step fails.
   const Particles start_particles = particles_;
   const std::vector<RigidBody> start_bodies = bodies_;

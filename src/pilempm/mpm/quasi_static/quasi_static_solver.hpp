@@ -336,8 +336,9 @@ class QuasiStaticSolver final : public MpmState {
   bool evaluate(const StepSetup& setup, const std::vector<double>& du, double gravity,
                 double traction, const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
                 LoadStepResult& result) const;
-  // Keeps particle i's contact points within |l| of it along x and y (corner_position_).
-  void bound_corners(std::size_t i);
+  // Keeps the contact points within |l| of their particle along x and y (corner_position_),
+  // each drawn back along the segment to its particle, and never deeper into a body than it was.
+  void bound_corners();
   void commit(const StepSetup& setup, const std::vector<double>& du, const Trial& trial,
               double gravity, double traction, const std::vector<Vec2>& body_step);
 
