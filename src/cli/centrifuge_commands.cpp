@@ -36,6 +36,7 @@ struct CentrifugeFlags {
   bool quiet = false;
   bool no_plots = false;
   bool overwrite = false;
+  std::string analysis;  ///< --analysis: "explicit", "quasi-static", or "" (the case file's)
 };
 
 std::string shown(double value, const char* format) {
@@ -65,8 +66,10 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
   const std::string source = builtin ? std::string("built-in quick case") : flags.case_file;
   const std::string text =
       builtin ? std::string(quick_centrifuge_case_text()) : read_case_text(flags.case_file);
-  const CentrifugeScenario scenario = read_centrifuge_case_text(text, source);
-  fmt::print("{}: \"{}\", phases {} -> {}/\n", source, scenario.title,
+  const CentrifugeScenario scenario =
+      read_centrifuge_case_text(text, source, analysis_option(flags.analysis));
+  fmt::print("{}: \"{}\", {} analysis{}, phases {} -> {}/\n", source, scenario.title,
+             to_string(scenario.analysis), flags.analysis.empty() ? "" : " (--analysis)",
              fmt::join(scenario_phase_names(scenario), ", "), flags.out);
   std::fflush(stdout);
   OutputFolderOptions folder;
@@ -126,19 +129,23 @@ void register_centrifuge_commands(CLI::App& app) {
   run->add_flag("--no-plots", flags->no_plots, "write figures.json but do not draw the PNGs");
   run->add_flag("--quiet", flags->quiet, "no progress lines on stderr");
   add_overwrite_flag(*run, flags->overwrite);
+  add_analysis_option(*run, flags->analysis);
   run->callback([flags]() { run_centrifuge_command(*flags); });
 
   auto case_file = std::make_shared<std::string>();
+  auto case_analysis = std::make_shared<std::string>();
   CLI::App* show = centrifuge->add_subcommand(
       "case", "print the MPM case (docs/mpm-case-files.md) a centrifuge case file becomes");
   show->add_option("case", *case_file, "the centrifuge case file; none: the built-in quick case")
       ->type_name("CASE.toml");
-  show->callback([case_file]() {
+  add_analysis_option(*show, *case_analysis);
+  show->callback([case_file, case_analysis]() {
     const bool builtin = case_file->empty();
     const std::string text =
         builtin ? std::string(quick_centrifuge_case_text()) : read_case_text(*case_file);
     const std::string source = builtin ? "built-in quick case" : *case_file;
-    const CentrifugeScenario s = read_centrifuge_case_text(text, source);
+    const CentrifugeScenario s =
+        read_centrifuge_case_text(text, source, analysis_option(*case_analysis));
     fmt::print("{}", centrifuge_mpm_case_text(centrifuge_case(s, source)));
   });
 }

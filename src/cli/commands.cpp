@@ -48,6 +48,21 @@ void add_overwrite_flag(CLI::App& command, bool& overwrite) {
                    "(only the files pilempm wrote there; without it such a folder is refused)");
 }
 
+void add_analysis_option(CLI::App& command, std::string& analysis) {
+  command
+      .add_option("--analysis", analysis,
+                  "run with this analysis whatever the case file's [solver] analysis says "
+                  "(explicit or quasi-static; the keys of the other analysis are then errors)")
+      ->check(CLI::IsMember({"explicit", "quasi-static"}))
+      ->type_name("ANALYSIS");
+}
+
+std::optional<simulation::MpmAnalysis> analysis_option(const std::string& name) {
+  if (name.empty()) return std::nullopt;
+  return name == "quasi-static" ? simulation::MpmAnalysis::quasi_static
+                                : simulation::MpmAnalysis::explicit_dynamic;
+}
+
 void take_output_folder(const std::string& directory, const OutputFolderOptions& options) {
   const OutputFolderClaim claim = claim_output_folder(directory, options);
   if (!claim.removed_temporary.empty())

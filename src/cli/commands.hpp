@@ -3,10 +3,12 @@
 // subcommand does its work in its CLI11 callback and reports failures by throwing pilempm::Error.
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "pilempm/io/output/output_folder.hpp"
+#include "pilempm/simulation/mpm_case.hpp"
 
 namespace pilempm::cli {
 
@@ -36,6 +38,12 @@ const CLI::Validator& sane_number();
 /// Adds --overwrite (remove the files of an earlier run in the output folder first) to a
 /// command that writes into an output folder.
 void add_overwrite_flag(CLI::App& command, bool& overwrite);
+
+/// Adds --analysis (explicit or quasi-static: the analysis of every run whatever its centrifuge
+/// case file says) to a command that reads centrifuge case files.
+void add_analysis_option(CLI::App& command, std::string& analysis);
+/// The analysis --analysis names; none when it was not given ("").
+std::optional<simulation::MpmAnalysis> analysis_option(const std::string& name);
 
 /// Takes the output folder of a command's run (claim_output_folder) and says on stderr what it
 /// removed: temporary files left by a run that was stopped, an earlier run's files (overwrite).

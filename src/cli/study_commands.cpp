@@ -91,6 +91,7 @@ struct CentrifugeStudyFlags {
   int jobs = 1;
   bool jobs_given = false;
   std::string write_commands;
+  std::string analysis;  ///< --analysis, or "" (each case file's)
 };
 
 // The pilempm program that runs: the child runs of the study start it again.
@@ -131,10 +132,12 @@ void write_centrifuge_study_commands_command(const CentrifugeStudyOptions& optio
       "wrote {} command{} (one run a line) to {}; their folders go to {}/, their output to "
       "{}/logs/.\nRun them, e.g. `parallel -j 4 < {}` (GNU parallel; over ssh hosts with "
       "--sshloginfile) or as a Slurm job array (`sed -n \"${{SLURM_ARRAY_TASK_ID}}p\" {} | "
-      "bash`), then gather them:\n  pilempm study centrifuge --out {} --cases {}{} --report-only\n",
+      "bash`), then gather them:\n  pilempm study centrifuge --out {} --cases {}{}{} "
+      "--report-only\n",
       lines, lines == 1 ? "" : "s", flags.write_commands, flags.out, flags.out,
       shell_word(flags.write_commands), shell_word(flags.write_commands), shell_word(flags.out),
-      shell_word(flags.cases), groups);
+      shell_word(flags.cases), groups,
+      flags.analysis.empty() ? std::string() : " --analysis " + flags.analysis);
 }
 
 void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
@@ -146,12 +149,13 @@ void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
   options.report_only = flags.report_only;
   options.plots = !flags.no_plots;
   options.python = flags.python;
+  options.analysis = analysis_option(flags.analysis);
   options.jobs = flags.jobs;
   if (flags.jobs > 1 || !flags.write_commands.empty()) options.program = this_program();
   fmt::print(
-      "pilempm study centrifuge: cases from {}/, groups {} -> {}/\n", flags.cases,
+      "pilempm study centrifuge: cases from {}/, groups {}{} -> {}/\n", flags.cases,
       flags.groups.empty() ? std::string("all") : fmt::format("{}", fmt::join(flags.groups, ", ")),
-      flags.out);
+      flags.analysis.empty() ? std::string() : ", every run " + flags.analysis, flags.out);
   std::fflush(stdout);
   OutputFolderOptions folder;
   folder.overwrite = flags.overwrite;
@@ -287,6 +291,7 @@ void register_study_commands(CLI::App& app) {
   centrifuge->add_flag("--no-plots", centrifuge_flags->no_plots, "draw no PNG files");
   centrifuge->add_flag("--quiet", centrifuge_flags->quiet, "no progress lines on stderr");
   add_overwrite_flag(*centrifuge, centrifuge_flags->overwrite);
+  add_analysis_option(*centrifuge, centrifuge_flags->analysis);
   centrifuge
       ->add_option("--python", centrifuge_flags->python,
                    "Python interpreter with matplotlib for the figures")

@@ -88,13 +88,21 @@ std::string without_wall_time(const std::string& summary_csv) {
   return without_column(summary_csv, ',', "wall_time_s");
 }
 
+// A quasi-static run's load_steps.csv without its timings (the rest is the Newton work).
+std::string without_load_step_times(const std::string& load_steps_csv) {
+  std::string text = load_steps_csv;
+  for (const char* column : {"material_s", "assembly_s", "factorisation_s", "wall_s"})
+    text = without_column(text, ',', column);
+  return text;
+}
+
 std::string readme_without_wall_time(const std::string& readme) {
   return without_column(readme, '|', " wall time [s] ");
 }
 
 // Every CSV file of the study's case folders (their path in the study folder: content), and
 // figures.json when all cases are asked for (a group with runs missing has no figure);
-// summary.csv without its wall time.
+// summary.csv and a quasi-static run's load_steps.csv without their times.
 std::map<std::string, std::string> study_results(const fs::path& study,
                                                  const std::vector<std::string>& cases = kCases) {
   std::map<std::string, std::string> files;
@@ -104,7 +112,9 @@ std::map<std::string, std::string> study_results(const fs::path& study,
       if (e.path().extension() != ".csv") continue;
       const std::string name = e.path().lexically_relative(study).generic_string();
       const std::string text = read_text(e.path());
-      files[name] = e.path().filename() == "summary.csv" ? without_wall_time(text) : text;
+      files[name] = e.path().filename() == "summary.csv"      ? without_wall_time(text)
+                    : e.path().filename() == "load_steps.csv" ? without_load_step_times(text)
+                                                              : text;
     }
   }
   if (cases.size() == kCases.size()) files["figures.json"] = read_text(study / "figures.json");
@@ -258,6 +268,43 @@ TEST_F(CentrifugeStudyJobsCli, ASlurmArrayTaskRunsItsOwnLineOfTheList) {
   r = run_pilempm(study_flags() + " --report-only --out " + quoted(out), 120);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(read_text(out / "README.md").find("`igs1_small.toml` | not run"), std::string::npos);
+}
+
+// --analysis quasi-static runs every case of the study on the quasi-static analysis, whatever the
+// case files say (they name none: explicit), in this process and as child runs (which get the
+// flag: their results equal the serial ones byte for byte), and the command list passes it on.
+TEST_F(CentrifugeStudyJobsCli, AnalysisFlagRunsEveryCaseOnItInProcessAndAsChildren) {
+  const fs::path serial_qs = *dir_ / "qs-serial";
+  const fs::path jobs_qs = *dir_ / "qs-jobs2";
+  const std::string flags = study_flags() + " --analysis quasi-static";
+  Result r = run_pilempm(flags + " --out " + quoted(serial_qs), 600, "OMP_NUM_THREADS=1 ");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("groups igs, every run quasi-static"), std::string::npos) << r.output;
+  for (const std::string& c : kCases) {
+    EXPECT_NE(read_text(serial_qs / c / "mpm_case.toml").find("analysis = \"quasi-static\""),
+              std::string::npos)
+        << c;
+    EXPECT_EQ(read_text(serial() / c / "mpm_case.toml").find("quasi-static"), std::string::npos)
+        << c;
+    // Another analysis, another path: the pile's forces differ from the explicit run's.
+    EXPECT_NE(read_text(serial_qs / c / "pile.csv"), read_text(serial() / c / "pile.csv")) << c;
+  }
+  EXPECT_NE(read_text(serial_qs / "README.md").find("Every run: the quasi-static analysis"),
+            std::string::npos);
+  r = run_pilempm(flags + " --jobs 2 --out " + quoted(jobs_qs), 600);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  expect_serial_results(jobs_qs, serial_qs);
+
+  const fs::path commands = *dir_ / "qs-commands.txt";
+  r = run_pilempm(
+      flags + " --out " + quoted(*dir_ / "qs-list") + " --write-commands " + quoted(commands), 120);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("--analysis quasi-static --report-only"), std::string::npos) << r.output;
+  std::istringstream in(read_text(commands));
+  std::size_t lines = 0;
+  for (std::string line; std::getline(in, line); ++lines)
+    EXPECT_NE(line.find(" --analysis quasi-static"), std::string::npos) << line;
+  EXPECT_EQ(lines, kCases.size());
 }
 
 // The command list without running anything: --resume leaves out the finished runs, a folder

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -82,9 +83,9 @@ long line_starting(const std::string& text, const std::string& start) {
 // The text is refused with an error at the line starting with `at` (none: no line) for `key`,
 // whose message holds `reason`.
 void expect_refused(const std::string& text, const std::string& at, const std::string& key,
-                    const std::string& reason) {
+                    const std::string& reason, std::optional<MpmAnalysis> analysis = std::nullopt) {
   try {
-    (void)read_centrifuge_case_text(text, "case.toml");
+    (void)read_centrifuge_case_text(text, "case.toml", analysis);
     ADD_FAILURE() << "accepted:\n" << text;
   } catch (const InputError& e) {
     EXPECT_EQ(e.file(), "case.toml");
@@ -186,6 +187,32 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheLoadStepInDiameters) {
                  "solver.displacement_step_D", "[0.0001, 1]");
   expect_refused(kMohrCoulomb + std::string("[solver]\ndisplacement_step_D = 0.05\n"),
                  "displacement_step_D", "solver.displacement_step_D", "quasi-static");
+}
+
+// The command line's --analysis: the analysis of the run whatever the file says, with the other
+// analysis's defaults (the integrator) and its keys refused, the message saying where the
+// analysis was chosen.
+TEST(CentrifugeCaseModels, AnalysisGivenOnTheCommandLineOverridesTheFilesAndItsKeysAreChecked) {
+  const CentrifugeScenario by_file = read_centrifuge_case_text(quasi_static(kMohrCoulomb), "c");
+  const CentrifugeScenario s =
+      read_centrifuge_case_text(kMohrCoulomb, "c", MpmAnalysis::quasi_static);
+  EXPECT_EQ(s.analysis, MpmAnalysis::quasi_static);
+  EXPECT_EQ(s.integrator.scheme, by_file.integrator.scheme);  // the quasi-static default
+  EXPECT_NE(s.integrator.scheme, read_centrifuge_case_text(kMohrCoulomb, "c").integrator.scheme);
+  EXPECT_EQ(centrifuge_mpm_case_text(centrifuge_to_mpm_case(s, "m.toml")),
+            centrifuge_mpm_case_text(centrifuge_to_mpm_case(by_file, "m.toml")));
+  const CentrifugeScenario back =
+      read_centrifuge_case_text(quasi_static(kMohrCoulomb), "c", MpmAnalysis::explicit_dynamic);
+  EXPECT_EQ(back.analysis, MpmAnalysis::explicit_dynamic);
+  // The keys of the analysis not chosen.
+  expect_refused(kMohrCoulomb + std::string("[solver]\nmass_scaling = 50\n"), "mass_scaling",
+                 "solver.mass_scaling", "set by --analysis", MpmAnalysis::quasi_static);
+  expect_refused(quasi_static(kMohrCoulomb, "displacement_step_D = 0.05\n"), "displacement_step_D",
+                 "solver.displacement_step_D", "runs analysis = \"explicit\", set by --analysis",
+                 MpmAnalysis::explicit_dynamic);
+  // The file's own key is still read and checked.
+  expect_refused(kMohrCoulomb + std::string("[solver]\nanalysis = \"implicit\"\n"), "analysis",
+                 "solver.analysis", "quasi-static", MpmAnalysis::quasi_static);
 }
 
 TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheContactSmoothing) {

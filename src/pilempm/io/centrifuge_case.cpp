@@ -22,8 +22,8 @@ PileMotion read_motion(TableReader& t, PileMotion motion) {
 
 }  // namespace
 
-CentrifugeScenario read_centrifuge_case_text(std::string_view text,
-                                             const std::string& source_name) {
+CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::string& source_name,
+                                             std::optional<simulation::MpmAnalysis> analysis) {
   const toml::table document = parse_toml_text(text, source_name);
   TableReader root(document, source_name, "");
   CentrifugeScenario s;
@@ -35,7 +35,10 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
     if (t->optional_choice("analysis", {"explicit", "quasi-static"}).value_or("explicit") ==
         "quasi-static")
       s.analysis = simulation::MpmAnalysis::quasi_static;
+  if (analysis) s.analysis = *analysis;
   const bool quasi_static = s.analysis == simulation::MpmAnalysis::quasi_static;
+  // How a message names where the analysis was chosen.
+  const std::string chosen_by = analysis ? "set by --analysis" : "set by [solver] analysis";
 
   // Then the materials: the sand may name one of them.
   MaterialCatalog catalog;
@@ -48,8 +51,10 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   auto refuse_explicit = [&](TableReader& t, const char* key) {
     if (quasi_static && t.contains(key))
       throw t.error(key,
-                    "applies to analysis = \"explicit\" only (this case runs analysis = "
-                    "\"quasi-static\", which has no inertia, damping or force averaging)");
+                    fmt::format("applies to analysis = \"explicit\" only (this case runs "
+                                "analysis = \"quasi-static\", {}, which has no inertia, damping "
+                                "or force averaging)",
+                                chosen_by));
   };
 
   if (auto t = root.table("test")) {
@@ -182,7 +187,10 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
     for (const char* key : {"displacement_step_D", "contact_smoothing", "low_stress_stiffness",
                             "low_stress_pressure_Pa"})
       if (!quasi_static && t->contains(key))
-        throw t->error(key, "applies to analysis = \"quasi-static\" only (set [solver] analysis)");
+        throw t->error(key, analysis ? "applies to analysis = \"quasi-static\" only (this case "
+                                       "runs analysis = \"explicit\", set by --analysis)"
+                                     : "applies to analysis = \"quasi-static\" only (set [solver] "
+                                       "analysis)");
     s.displacement_step_D =
         t->number_or("displacement_step_D", s.displacement_step_D, NumberRange::closed(1e-4, 1.0));
     s.contact_smoothing =
@@ -234,8 +242,9 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text,
   return s;
 }
 
-CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path) {
-  return read_centrifuge_case_text(read_case_text(path), path.string());
+CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path,
+                                        std::optional<simulation::MpmAnalysis> analysis) {
+  return read_centrifuge_case_text(read_case_text(path), path.string(), analysis);
 }
 
 std::string centrifuge_mpm_case_text(const simulation::MpmCase& c) {

@@ -5,6 +5,7 @@
 // unknown keys and bad values are InputErrors with the file, the line, the key, the value and the
 // allowed range. Every key has the default of docs/study.md §4.
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -13,11 +14,16 @@
 
 namespace pilempm {
 
-/// Reads a centrifuge case file (throws InputError).
-scenario::CentrifugeScenario read_centrifuge_case(const std::filesystem::path& path);
-/// Reads centrifuge case text; `source_name` is what messages call the file.
-scenario::CentrifugeScenario read_centrifuge_case_text(std::string_view text,
-                                                       const std::string& source_name);
+/// Reads a centrifuge case file (throws InputError). `analysis`, when given (the command line's
+/// `--analysis`), is the analysis the case runs whatever its `[solver] analysis` says (that key
+/// is still checked); the keys of the other analysis are then errors as they are for the file's.
+scenario::CentrifugeScenario read_centrifuge_case(
+    const std::filesystem::path& path,
+    std::optional<simulation::MpmAnalysis> analysis = std::nullopt);
+/// Reads centrifuge case text; `source_name` is what messages call the file; `analysis` as above.
+scenario::CentrifugeScenario read_centrifuge_case_text(
+    std::string_view text, const std::string& source_name,
+    std::optional<simulation::MpmAnalysis> analysis = std::nullopt);
 
 /// The MPM case file text of a scenario's typed case (scenario::centrifuge_case), as
 /// `centrifuge run` writes it for the record (mpm_case.toml) and `centrifuge case` prints it.

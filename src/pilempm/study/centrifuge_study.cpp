@@ -209,12 +209,13 @@ std::vector<std::string> case_files(const std::vector<const CentrifugeStudyGroup
 
 // Every case file read and checked (InputError naming the file), with its text.
 std::vector<std::pair<CentrifugeScenario, std::string>> read_cases(
-    const std::filesystem::path& cases_dir, const std::vector<std::string>& files) {
+    const CentrifugeStudyOptions& options, const std::vector<std::string>& files) {
   std::vector<std::pair<CentrifugeScenario, std::string>> scenarios;
   for (const std::string& file : files) {
-    const std::filesystem::path path = cases_dir / file;
+    const std::filesystem::path path = options.cases_dir / file;
     std::string text = read_case_text(path);
-    scenarios.emplace_back(read_centrifuge_case_text(text, path.string()), std::move(text));
+    scenarios.emplace_back(read_centrifuge_case_text(text, path.string(), options.analysis),
+                           std::move(text));
   }
   return scenarios;
 }
@@ -245,6 +246,10 @@ ChildRun child_run(const CentrifugeStudyOptions& options, const std::filesystem:
       options.program.string(),   "centrifuge", "run", path(options.cases_dir / file), "--out",
       path(out_dir / stem(file)), "--overwrite"};
   if (!options.plots) run.arguments.emplace_back("--no-plots");
+  if (options.analysis) {
+    run.arguments.emplace_back("--analysis");
+    run.arguments.emplace_back(to_string(*options.analysis));
+  }
   if (!options.python.empty()) {
     run.arguments.emplace_back("--python");
     run.arguments.push_back(options.python);
@@ -399,7 +404,7 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
   // Every case file is read and checked before the first run.
   const std::vector<std::string> files = case_files(groups);
   const std::vector<std::pair<CentrifugeScenario, std::string>> scenarios =
-      read_cases(options.cases_dir, files);
+      read_cases(options, files);
   if (options.jobs > 1 && !options.report_only) check_program(options);
   prepare_output_directory(out_dir);
 
@@ -451,6 +456,10 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
       "`pile.csv`, plots); the figures here compare the runs of a group. Forces "
       "of the full pile; the head force at the end of installation is the mean "
       "over the last cell of travel.\n";
+  if (options.analysis)
+    readme +=
+        fmt::format("Every run: the {} analysis (`--analysis`), whatever its case file says.\n",
+                    to_string(*options.analysis));
   for (const CentrifugeStudyGroup* g : groups) {
     // A group is compared when all its runs exist (with report_only some may not).
     const bool complete =
@@ -516,7 +525,7 @@ std::size_t write_centrifuge_study_commands(const CentrifugeStudyOptions& option
                                             const std::filesystem::path& out_dir,
                                             const std::filesystem::path& file) {
   const std::vector<std::string> files = case_files(chosen_groups(options.groups));
-  (void)read_cases(options.cases_dir, files);  // every case file checked before anything runs
+  (void)read_cases(options, files);  // every case file checked before anything runs
   check_program(options);
   prepare_output_directory(out_dir / "logs");
   std::string text;

@@ -5,9 +5,12 @@
 // DIR/<case>/, then the figures that compare the runs of a group and DIR/README.md with a table of
 // every run.
 #include <filesystem>
+#include <optional>
 #include <ostream>
 #include <string>
 #include <vector>
+
+#include "pilempm/simulation/mpm_case.hpp"
 
 namespace pilempm {
 
@@ -38,6 +41,9 @@ struct CentrifugeStudyOptions {
   int jobs = 1;
   /// The pilempm program for the child runs and the command list (an absolute path).
   std::filesystem::path program;
+  /// The analysis of every run whatever its case file's `[solver] analysis` says (`--analysis`;
+  /// the child runs and the command list get it too); none: each case file's own.
+  std::optional<simulation::MpmAnalysis> analysis;
 };
 
 /// A run of the study that failed its own checks (scenario/centrifuge/run_checks.hpp), or, with
