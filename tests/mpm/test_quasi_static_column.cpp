@@ -350,14 +350,13 @@ TEST(QuasiStaticColumn, ASolutionThatTurnsAParticleInsideOutIsCut) {
 }
 
 // The contact points (the corners of the particles' domains, carried with each particle's affine
-// motion) are drawn back within |l| of their particle along x and y (|l| the domain's
-// half-diagonal, at most a cell) at the end of every sub-increment and at the start of each load
-// step (for a checkpoint written before the bound):
-// in MPM-2 the sand sheared along the shaft had carried them up to 22 cells from their
-// particles, where ∇S_k · (x_q − x_p) multiplied a
-// point's force on the nodes, and the nodes' motion at the point, by about 20. A checkpoint's
-// contact point 20 cells away comes back to the bound in a load step of no load, and after a
-// load step every point lies within it.
+// motion) are drawn back, along the segment to their particle, within |l| of it along x and y
+// (|l| the domain's half-diagonal, at most a cell) at the end of every sub-increment and at the
+// start of each load step (for a checkpoint written before the bound): in MPM-2 the sand sheared
+// along the shaft had carried them up to 22 cells from their particles, where ∇S_k · (x_q − x_p)
+// multiplied a point's force on the nodes, and the nodes' motion at the point, by about 20. A
+// checkpoint's contact point 20 cells away comes back to the bound in a load step of no load, and
+// after a load step every point lies within it.
 TEST(QuasiStaticColumn, ContactPointsStayNearTheirParticles) {
   const int cells = 4;
   const double h = kHeight / cells;
@@ -418,9 +417,10 @@ TEST(QuasiStaticColumn, ContactPointsStayNearTheirParticles) {
 
 // A contact point drawn back to its particle is never moved into a body (nor deeper into one):
 // the bound alone, clamping component by component, had moved points of sand at MPM-2's pile
-// shoulder from beside the cone into the shaft (docs/quasi-static.md, "Known limit"). A plate
-// lies just above the column; the top particle's point, put 20 cells above the plate, is drawn
-// back towards its particle and stops on the plate's top face instead of inside the plate.
+// shoulder from beside the cone into the shaft (docs/quasi-static.md, "Contact with the exact
+// surface"). A plate lies just above the column; the top particle's point, put 20 cells above the
+// plate, is drawn back towards its particle and stops on the plate's top face instead of inside
+// the plate.
 TEST(QuasiStaticColumn, ABoundedContactPointIsNotMovedIntoABody) {
   const int cells = 4;
   const double h = kHeight / cells;

@@ -353,10 +353,11 @@ class QuasiStaticSolver final : public MpmState {
   std::vector<ContactHistory> contact_history_;
   /// The contact points: the corners of the particles' domains at creation, moved since with
   /// the particles' affine motion (4 per particle) [m], and at the end of each sub-increment
-  /// (and the start of each load step) drawn back, component by component, to within |l| of the
-  /// particle (l its domain's half-lengths, |l| at most one cell of the grid at the particle):
-  /// sand sheared along a pile's shaft carried its corners 20 cells away, where
-  /// ∇S_k · (x_q − x_p) multiplied their forces and motions by 20 (MPM-2, docs/quasi-static.md).
+  /// (and the start of each load step) drawn back along the segment to the particle until within
+  /// |l| of it along x and y (l its domain's half-lengths, |l| at most one cell of the grid at
+  /// the particle), never deeper into a body (bound_corners): sand sheared along a pile's shaft
+  /// carried its corners 20 cells away, where ∇S_k · (x_q − x_p) multiplied their forces and
+  /// motions by 20 (MPM-2, docs/quasi-static.md).
   std::vector<Vec2> corner_position_;
   /// The modulus of the contact penalty per material [Pa]: the largest constrained modulus of
   /// the material's particles at the first load step, then fixed (a penalty that followed the
