@@ -76,7 +76,7 @@ void run_mpm(const MpmRunFlags& flags) {
   if (summary.analysis == simulation::MpmAnalysis::quasi_static)
     fmt::print(
         "quasi-static: {} load steps, {} Newton iterations ({:.1f} per step, at most {}), {} "
-        "cuts, {} accepted above the force tolerance (largest ||R|| {:.2g} F_ref){}; largest "
+        "cuts, {} accepted above the force tolerance (largest ||R|| {:.2g} F_ref){}{}; largest "
         "contact penetration {:.3g} m\n",
         summary.steps, summary.newton_iterations,
         summary.steps > 0 ? double(summary.newton_iterations) / double(summary.steps) : 0.0,
@@ -85,6 +85,11 @@ void run_mpm(const MpmRunFlags& flags) {
         summary.newton_stabilised > 0
             ? fmt::format(", {} sub-increments kept the low-stress stabilisation",
                           summary.newton_stabilised)
+            : std::string(),
+        summary.newton_rescued > 0
+            ? fmt::format(", {} load steps finished with the low-stress stabilisation after "
+                          "their cuts ran out",
+                          summary.newton_rescued)
             : std::string(),
         summary.max_penetration);
   fmt::print(

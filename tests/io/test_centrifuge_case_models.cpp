@@ -230,21 +230,33 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheContactSmoothing) {
                  "contact_smoothing", "solver.contact_smoothing", "quasi-static");
 }
 
-// The low-stress stabilisation: off by default, taken into the MPM case (and the case written
-// from it) when set, refused out of range and in an explicit case.
+// The low-stress stabilisation: η = 3 as a last resort by default (low_stress_use),
+// taken into the MPM case (and the case written from it) when set, refused out of range and in
+// an explicit case.
 TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheLowStressStabilisation) {
   const CentrifugeScenario plain =
       read_centrifuge_case_text(quasi_static(kMohrCoulomb), "case.toml");
-  EXPECT_EQ(centrifuge_to_mpm_case(plain, "m.toml").quasi_static.low_stress_stiffness, 0.0);
+  using mpm::quasi_static::StabilisationUse;
+  EXPECT_EQ(centrifuge_to_mpm_case(plain, "m.toml").quasi_static.low_stress_stiffness, 3.0);
+  EXPECT_EQ(centrifuge_to_mpm_case(plain, "m.toml").quasi_static.low_stress_use,
+            StabilisationUse::last_resort);
   const CentrifugeScenario s = read_centrifuge_case_text(
-      quasi_static(kMohrCoulomb, "low_stress_stiffness = 0.1\nlow_stress_pressure_Pa = 250\n"),
+      quasi_static(kMohrCoulomb,
+                   "low_stress_stiffness = 0.1\nlow_stress_pressure_Pa = 250\n"
+                   "low_stress_use = \"every_step\"\n"),
       "case.toml");
   const MpmCase c = centrifuge_to_mpm_case(s, "m.toml");
   EXPECT_EQ(c.quasi_static.low_stress_stiffness, 0.1);
   EXPECT_EQ(c.quasi_static.low_stress_pressure, 250.0);
+  EXPECT_EQ(c.quasi_static.low_stress_use, StabilisationUse::every_step);
   const MpmCase written = read_mpm_case_text(mpm_case_text(c), "m.toml");
   EXPECT_EQ(written.quasi_static.low_stress_stiffness, 0.1);
   EXPECT_EQ(written.quasi_static.low_stress_pressure, 250.0);
+  EXPECT_EQ(written.quasi_static.low_stress_use, StabilisationUse::every_step);
+  expect_refused(quasi_static(kMohrCoulomb, "low_stress_use = \"sometimes\"\n"), "low_stress_use",
+                 "solver.low_stress_use", "last_resort");
+  expect_refused(kMohrCoulomb + std::string("[solver]\nlow_stress_use = \"every_step\"\n"),
+                 "low_stress_use", "solver.low_stress_use", "quasi-static");
   expect_refused(quasi_static(kMohrCoulomb, "low_stress_stiffness = -1\n"), "low_stress_stiffness",
                  "solver.low_stress_stiffness", "[0, 10]");
   expect_refused(quasi_static(kMohrCoulomb, "low_stress_pressure_Pa = 0\n"),

@@ -232,6 +232,7 @@ TEST(QuasiStaticStabilisation, TheLowStressStiffnessLagsTheSettlementAndKeepsThe
   for (const double p_s : {1.0e12, 1.0e-3}) {
     Settings settings;
     settings.low_stress_stiffness = eta;
+    settings.low_stress_use = StabilisationUse::every_step;
     settings.low_stress_pressure = p_s;
     settings.low_stress_resolve = false;  // keep the stabilised solutions
     const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
@@ -273,6 +274,7 @@ TEST(QuasiStaticStabilisation, TheResolveWithoutItLeavesTheExactSolution) {
   const double u_el = weight * 0.5 * kHeight * kHeight / constrained_modulus();
   Settings settings;
   settings.low_stress_stiffness = 0.5;
+  settings.low_stress_use = StabilisationUse::every_step;
   settings.low_stress_pressure = 1.0e12;
   const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
   QuasiStaticSolver& solver = *column;
@@ -302,6 +304,7 @@ TEST(QuasiStaticStabilisation, TheContinuationKeepsTheSmallestShareWithinTheDrif
   const double weight = 2.0 * constrained_modulus() * u_el / (kHeight * kHeight);
   Settings settings;
   settings.low_stress_stiffness = 100.0;
+  settings.low_stress_use = StabilisationUse::every_step;
   settings.low_stress_pressure = 1.0e12;
   settings.low_stress_continuation = {0.1, 0.01};
   const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
@@ -324,6 +327,81 @@ TEST(QuasiStaticStabilisation, TheContinuationKeepsTheSmallestShareWithinTheDrif
   EXPECT_THROW(settings.validate(), InvalidValue);
   settings.low_stress_continuation = {1.0};
   EXPECT_THROW(settings.validate(), InvalidValue);
+}
+
+// StabilisationUse::last_resort (the default): a step that converges without the stabilisation
+// is solved exactly as with η = 0 (the same iterations, the same settlement to the bit, no
+// damping), where every_step solves it twice. The elastic column under 0.05 g, p_s above every
+// stress.
+TEST(QuasiStaticStabilisation, AsALastResortItLeavesAConvergingStepAlone) {
+  const int cells = 8;
+  const auto run = [&](double eta, StabilisationUse use) {
+    Settings settings;
+    settings.low_stress_stiffness = eta;
+    settings.low_stress_pressure = 1.0e12;
+    settings.low_stress_use = use;
+    const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
+    LoadStep load;
+    load.gravity_multiplier = 0.05;
+    const LoadStepResult step = column->solve_step(load);
+    EXPECT_TRUE(step.converged) << step.message;
+    EXPECT_FALSE(step.rescued);
+    EXPECT_EQ(column->energies().damping, 0.0);
+    const double settlement =
+        -column->last_node_displacement()[std::size_t(column->grid().node_index(1, cells))].y();
+    return std::make_pair(step.iterations, settlement);
+  };
+  const auto plain = run(0.0, StabilisationUse::last_resort);
+  const auto last_resort = run(0.5, StabilisationUse::last_resort);
+  const auto every_step = run(0.5, StabilisationUse::every_step);
+  EXPECT_EQ(last_resort.first, plain.first);
+  EXPECT_EQ(last_resort.second, plain.second);
+  EXPECT_GT(every_step.first, plain.first);
+}
+
+// A step whose cuts without the stabilisation run out is finished with it, from the size that
+// first failed. The column of the continuation test above (20 cells of settlement without the
+// stabilisation, beyond the drift limit of 5; 10 in a half step, still beyond), one cut allowed:
+// the whole step fails, its half fails, and the step is then solved in one piece with η = 100 and
+// the continuation, which keeps the share 0.1 (u_el / 11). Without η it stops.
+TEST(QuasiStaticStabilisation, AsALastResortItFinishesAStepWhoseCutsRanOut) {
+  const int cells = 8;
+  const double h = kHeight / cells, u_el = 20.0 * h;
+  const double weight = 2.0 * constrained_modulus() * u_el / (kHeight * kHeight);
+  for (const double eta : {0.0, 100.0}) {
+    Settings settings;
+    settings.low_stress_stiffness = eta;
+    settings.low_stress_pressure = 1.0e12;
+    settings.low_stress_continuation = {0.1, 0.01};
+    settings.max_cuts = 1;
+    const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, settings);
+    QuasiStaticSolver& solver = *column;
+    LoadStep load;
+    load.gravity_multiplier = weight / (kDensity * 9.81);
+    const LoadStepResult step = solver.solve_step(load);
+    std::printf("eta %g: converged %d, rescued %d, cuts %d, sub-increments %zu: %s\n", eta,
+                int(step.converged), int(step.rescued), step.cuts, step.sub_increments.size(),
+                step.message.c_str());
+    if (eta == 0.0) {
+      EXPECT_FALSE(step.converged);
+      EXPECT_FALSE(step.rescued);
+      continue;
+    }
+    ASSERT_TRUE(step.converged) << step.message;
+    EXPECT_TRUE(step.rescued);
+    EXPECT_EQ(step.cuts, 1);
+    ASSERT_EQ(step.sub_increments.size(), 3u);
+    EXPECT_FALSE(step.sub_increments[0].converged);
+    EXPECT_EQ(step.sub_increments[1].fraction, 0.5);
+    EXPECT_FALSE(step.sub_increments[1].converged);
+    EXPECT_EQ(step.sub_increments[2].fraction, 1.0);
+    EXPECT_TRUE(step.sub_increments[2].converged);
+    EXPECT_EQ(step.sub_increments[2].stabilisation_share, 0.1);
+    EXPECT_EQ(step.stabilised, 1);
+    const double settlement =
+        -solver.last_node_displacement()[std::size_t(solver.grid().node_index(1, cells))].y();
+    EXPECT_NEAR(settlement, u_el / 11.0, 1e-6 * u_el);
+  }
 }
 
 // A converged solution that turns a particle inside out is not taken but cut. The elastic column
@@ -472,6 +550,7 @@ TEST(QuasiStaticStabilisation, TheLowStressStiffnessFadesWhereTheMotionRepeats) 
   std::vector<double> plain, stabilised;
   for (const double eta : {0.0, 0.5}) {
     problem.settings.low_stress_stiffness = eta;
+    problem.settings.low_stress_use = StabilisationUse::every_step;
     problem.settings.low_stress_pressure = 1.0e12;
     problem.settings.low_stress_resolve = false;  // the stabilised solutions themselves
     QuasiStaticSolver solver = problem.build();

@@ -185,7 +185,7 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
          {"mass_scaling", "courant_number", "flip_fraction", "xpic_order", "local_damping"})
       refuse_explicit(*t, key);
     for (const char* key : {"displacement_step_D", "contact_smoothing", "low_stress_stiffness",
-                            "low_stress_pressure_Pa"})
+                            "low_stress_pressure_Pa", "low_stress_use"})
       if (!quasi_static && t->contains(key))
         throw t->error(key, analysis ? "applies to analysis = \"quasi-static\" only (this case "
                                        "runs analysis = \"explicit\", set by --analysis)"
@@ -199,6 +199,9 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
                                           NumberRange::closed(0.0, 10.0));
     s.low_stress_pressure_Pa = t->number_or("low_stress_pressure_Pa", s.low_stress_pressure_Pa,
                                             NumberRange::left_open(0.0, 1.0e7));
+    if (auto use = t->optional_choice("low_stress_use", {"last_resort", "every_step"}))
+      s.low_stress_use = *use == "every_step" ? mpm::quasi_static::StabilisationUse::every_step
+                                              : mpm::quasi_static::StabilisationUse::last_resort;
     s.mass_scaling = t->number_or("mass_scaling", s.mass_scaling, NumberRange::at_least(1.0));
     s.courant_number =
         t->number_or("courant_number", s.courant_number, NumberRange::left_open(0.0, 1.0));

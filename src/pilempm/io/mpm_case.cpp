@@ -88,7 +88,7 @@ const std::vector<std::string> kQuasiStaticOnlyKeys = {
     "linear_solver",           "contact_penalty_factor",
     "newton_step_limit_cells", "contact_vertex_radius_cells",
     "contact_smoothing",       "low_stress_stiffness",
-    "low_stress_pressure_Pa"};
+    "low_stress_use",          "low_stress_pressure_Pa"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -153,6 +153,9 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
                                              NumberRange::closed(0.0, 10.0));
   q.low_stress_pressure = solver->number_or("low_stress_pressure_Pa", q.low_stress_pressure,
                                             NumberRange::left_open(0.0, 1.0e7));
+  if (auto use = solver->optional_choice("low_stress_use", {"last_resort", "every_step"}))
+    q.low_stress_use = *use == "every_step" ? mpm::quasi_static::StabilisationUse::every_step
+                                            : mpm::quasi_static::StabilisationUse::last_resort;
   solver->check_no_unknown_keys();
 }
 

@@ -246,6 +246,9 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.number("contact_smoothing", q.contact.smoothing);
   t.number("low_stress_stiffness", q.low_stress_stiffness);
   t.number("low_stress_pressure_Pa", q.low_stress_pressure);
+  t.text("low_stress_use", q.low_stress_use == mpm::quasi_static::StabilisationUse::every_step
+                               ? "every_step"
+                               : "last_resort");
 }
 
 void write_integrator(TomlText& t, const IntegratorSettings& s) {

@@ -181,10 +181,13 @@ std::string mpm_load_steps_header() {
          "sum over them); accepted: sub-increments accepted above the force tolerance "
          "(accept_tolerance) and the largest ||R|| / F_ref of them; stabilised: sub-increments "
          "that kept the low-stress stabilisation's stress (low_stress_stiffness) and the largest "
-         "share of it they kept; penetration: the largest of a contact point into a body at the "
+         "share of it they kept; rescued: 1 where the step's cuts without the stabilisation ran "
+         "out and it was finished with it (low_stress_use = \"last_resort\"); penetration: the "
+         "largest of a contact point into a body at the "
          "step's end\n"
          "time_s,step,phase,solves,iterations,cuts,accepted,largest_accepted_residual,stabilised,"
-         "stabilisation_share,unknowns,penetration_m,material_s,assembly_s,factorisation_s,wall_"
+         "stabilisation_share,rescued,unknowns,penetration_m,material_s,assembly_s,factorisation_s,"
+         "wall_"
          "s\n";
 }
 
@@ -195,7 +198,7 @@ std::string mpm_load_steps_row(const mpm::MpmState& solver, const std::string& p
                   std::to_string(record.cuts), std::to_string(record.accepted),
                   csv_number(record.largest_accepted_residual, 3),
                   std::to_string(record.stabilised),
-                  csv_number(record.largest_stabilisation_share, 3),
+                  csv_number(record.largest_stabilisation_share, 3), std::to_string(record.rescued),
                   std::to_string(record.unknowns), csv_number(penetration, 4),
                   csv_number(record.material_seconds, 4), csv_number(record.assembly_seconds, 4),
                   csv_number(record.factorisation_seconds, 4), csv_number(record.wall_seconds, 4)});
@@ -436,6 +439,12 @@ class MpmOutputWriter final : public RunObserver {
       entries += e.part == 0 ? std::string("\n") : fmt::format("\t{}\n", e.part);
     }
     info.records[kSeriesRecord] = entries;
+    for (const CheckpointedState* state : checkpointed_) {
+      const std::string name = state->record_name();
+      if (info.records.count(name) != 0)
+        throw Error(fmt::format("checkpoint record \"{}\" named twice", name));
+      info.records[name] = state->save(phases_done);
+    }
     const std::filesystem::path file =
         out_dir_ / (prefix + mpm_checkpoint_name(phases_done, phase.name));
     write_mpm_checkpoint(file, scheme.state(), info);
@@ -467,6 +476,10 @@ class MpmOutputWriter final : public RunObserver {
   std::string energies_, bodies_, load_steps_;
   std::size_t vtu_count_ = 0;
   MpmBodyForceMeans force_means_;
+
+ public:
+  // The caller's state kept in each checkpoint (MpmRunHooks::checkpointed).
+  std::vector<CheckpointedState*> checkpointed_;
 };
 
 }  // namespace
@@ -487,6 +500,7 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
   MpmRunSummary summary;
   summary.analysis = c.analysis;
   MpmOutputWriter writer(c, out_dir, *scheme, summary);
+  writer.checkpointed_ = hooks.checkpointed;
   if (!restart.empty()) {
     // The case's solver takes the checkpoint's state; the material sets of the phases before
     // apply. (The next phase's settings are set when it begins: the checkpoint is taken at a
@@ -508,6 +522,11 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
       for (const MpmMaterialChange& change : c.phases[k].material_changes)
         state.set_material(change.model, change.replacement);
     writer.restore(info, restart);
+    for (CheckpointedState* kept : hooks.checkpointed) {
+      const auto saved = info.records.find(kept->record_name());
+      kept->restore(saved == info.records.end() ? std::string() : saved->second,
+                    summary.first_phase, restart);
+    }
   }
   ProgressObserver progress(progress_stream, hooks.progress_on_terminal);
   std::vector<RunObserver*> observers{&writer, &progress};
@@ -523,6 +542,7 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
     summary.newton_accepted = quasi_static->total_accepted();
     summary.largest_accepted_residual = quasi_static->largest_accepted_residual();
     summary.newton_stabilised = quasi_static->total_stabilised();
+    summary.newton_rescued = quasi_static->total_rescued();
     summary.max_penetration = quasi_static->max_penetration();
   }
   return summary;

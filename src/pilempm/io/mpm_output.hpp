@@ -92,13 +92,33 @@ struct MpmRunSummary {
   double largest_accepted_residual = 0.0;
   /// Sub-increments that kept the low-stress stabilisation's stress.
   long newton_stabilised = 0;
+  long newton_rescued = 0;  ///< load steps finished with the stabilisation after their cuts
   double max_penetration = 0.0;
 };
 
+/// State of a caller's own (a scenario's observers': the pile recorded so far, its checks) that
+/// goes into every checkpoint of the run as a named record and comes back on a restart from it.
+class CheckpointedState {
+ public:
+  virtual ~CheckpointedState() = default;
+  /// The record's name in the checkpoint: unique, not one of the run's own (energies.csv,
+  /// bodies.csv, load_steps.csv, particles.pvd).
+  virtual std::string record_name() const = 0;
+  /// The state at a checkpoint after `phases_done` phases.
+  virtual std::string save(std::size_t phases_done) const = 0;
+  /// The state of the checkpoint `file` (written after `phases_done` phases), before the first
+  /// phase of the restarted run; `saved` is empty when the checkpoint has no such record.
+  /// Throws InputError naming the file when the checkpoint cannot continue this run.
+  virtual void restore(const std::string& saved, std::size_t phases_done,
+                       const std::filesystem::path& file) = 0;
+};
+
 /// What a caller may do during a run, besides the files: observers of the run loop
-/// (simulation/run_loop.hpp), told after the files' own writer and the progress line.
+/// (simulation/run_loop.hpp), told after the files' own writer and the progress line, and
+/// state kept in the checkpoints.
 struct MpmRunHooks {
   std::vector<simulation::RunObserver*> observers;
+  std::vector<CheckpointedState*> checkpointed;
   /// The progress stream is a terminal: one line updated in place (else a line every 10 s).
   bool progress_on_terminal = false;
 };

@@ -22,6 +22,7 @@ void LoadStepRecord::add(const mpm::quasi_static::LoadStepResult& step, double s
   accepted += step.accepted;
   largest_accepted_residual = std::max(largest_accepted_residual, step.largest_accepted_residual);
   stabilised += step.stabilised;
+  if (step.rescued) ++rescued;
   largest_stabilisation_share =
       std::max(largest_stabilisation_share, step.largest_stabilisation_share);
   most_iterations = std::max(most_iterations, step.iterations);
@@ -162,7 +163,8 @@ Advance QuasiStaticScheme::advance(double target) {
 
 std::string QuasiStaticScheme::step_report() const {
   return fmt::format(
-      "{} it, {} cuts{}{}, penetration {:.2g} m", last_step_.iterations, last_step_.cuts,
+      "{} it, {} cuts{}{}{}, penetration {:.2g} m", last_step_.iterations, last_step_.cuts,
+      last_step_.rescued > 0 ? ", finished with the low-stress stabilisation" : "",
       last_step_.accepted > 0
           ? fmt::format(", accepted at ||R|| = {:.1e} F_ref", last_step_.largest_accepted_residual)
           : std::string(),

@@ -30,8 +30,11 @@ struct LoadStepRecord {
   double largest_accepted_residual = 0.0;  ///< the largest ||R|| / F_ref of them
   long stabilised = 0;  ///< sub-increments that kept the low-stress stabilisation's stress
   double largest_stabilisation_share = 0.0;  ///< the largest share of it they kept
-  int most_iterations = 0;                   ///< of one solve
-  int unknowns = 0;                          ///< of the last system
+  /// Solves whose cuts without the stabilisation ran out and that were finished with it
+  /// (mpm::quasi_static::StabilisationUse::last_resort).
+  long rescued = 0;
+  int most_iterations = 0;  ///< of one solve
+  int unknowns = 0;         ///< of the last system
   double material_seconds = 0.0, assembly_seconds = 0.0, factorisation_seconds = 0.0;
   double wall_seconds = 0.0;
 
@@ -76,6 +79,8 @@ class QuasiStaticScheme final : public Scheme {
   /// Sub-increments that kept the low-stress stabilisation's stress (Settings::
   /// low_stress_stiffness).
   long total_stabilised() const { return total_.stabilised; }
+  /// Load steps finished with the low-stress stabilisation after their cuts ran out.
+  long total_rescued() const { return total_.rescued; }
   int most_iterations() const { return total_.most_iterations; }
   double max_penetration() const { return max_penetration_; }
 

@@ -458,7 +458,7 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     return false;
   }
   record.converged = true;
-  if (settings_.low_stress_stiffness > 0.0) {
+  if (stabilisation_on()) {
     // The low-stress stabilisation only finds the way: the sub-increment is solved again with
     // less of it and without it, and the stabilised solution is kept only where those fail.
     bool exact = false;
@@ -649,6 +649,11 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
     contact_modulus_ = penalty_moduli(particles_, materials_);
 
   double done = 0.0, size = 1.0;
+  // The size of the step's first failed sub-increment, where a rescue with the stabilisation
+  // starts (StabilisationUse::last_resort); the cuts allowed before it ran out.
+  double first_failed = 0.0;
+  int cuts_allowed = settings_.max_cuts;
+  rescuing_ = false;
   LoadStep remaining = load;
   while (done < 1.0 - 1.0e-12) {
     size = std::min(size, 1.0 - done);
@@ -665,7 +670,24 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
       if (int(record.iterations.size()) <= settings_.easy_iterations) size *= 2.0;
       continue;
     }
-    if (result.cuts >= settings_.max_cuts) {
+    if (first_failed == 0.0) first_failed = size;
+    if (result.cuts >= cuts_allowed && !rescuing_ && settings_.low_stress_stiffness > 0.0 &&
+        settings_.low_stress_use == StabilisationUse::last_resort) {
+      // The cuts without the stabilisation ran out: the rest of the step with it, from the size
+      // that first failed, with the cuts allowed once more.
+      rescuing_ = true;
+      result.rescued = true;
+      cuts_allowed = result.cuts + settings_.max_cuts;
+      size = first_failed;
+      if (settings_.trace != nullptr)
+        std::fprintf(settings_.trace,
+                     "newton: the cuts ran out; the rest of the step with the low-stress "
+                     "stabilisation (%s)\n",
+                     result.message.c_str());
+      continue;
+    }
+    if (result.cuts >= cuts_allowed) {
+      rescuing_ = false;
       particles_ = start_particles;
       bodies_ = start_bodies;
       body_forces_ = start_forces;
@@ -681,13 +703,18 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
       reference_motion_ = start_reference_motion;
       max_penetration_ = start_penetration;
       result.converged = false;
-      result.message = fmt::format("no convergence after {} cuts ({} done of the step): {}",
-                                   result.cuts, format_value(done), result.message);
+      result.message = fmt::format(
+          "no convergence after {} cuts{} ({} done of the step): {}", result.cuts,
+          result.rescued ? fmt::format(" ({} of them with the low-stress stabilisation)",
+                                       result.cuts - settings_.max_cuts)
+                         : std::string(),
+          format_value(done), result.message);
       return result;
     }
     ++result.cuts;
     size *= 0.5;
   }
+  rescuing_ = false;
   result.converged = true;
   result.message.clear();
   time_ += load.duration;

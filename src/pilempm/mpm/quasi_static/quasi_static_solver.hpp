@@ -51,6 +51,16 @@ enum class TangentKind {
                  ///< Newton, linear convergence)
 };
 
+/// When the low-stress stabilisation (Settings::low_stress_stiffness) acts.
+enum class StabilisationUse {
+  /// Only in a load step whose sub-increments failed without it until the cuts ran out: the
+  /// failed part is solved again with it (and then without it, Settings::low_stress_resolve),
+  /// with the cuts allowed once more. A run that converges without it is not changed by it.
+  last_resort,
+  /// In every sub-increment: each is solved with it first.
+  every_step,
+};
+
 /// ContactSettings with vertex_radius = 0.5 (the quasi-static analysis's default).
 inline ContactSettings rounded_contact() {
   ContactSettings contact;
@@ -122,8 +132,9 @@ struct Settings {
   /// of low_stress_continuation, and then without it, each solve starting from the last one's
   /// solution; the solution of the smallest share that converged is kept (a share above 0
   /// counted in LoadStepResult::stabilised, its work booked as damping, Energies::damping).
-  /// 0: none.
+  /// 0: none. When it acts: low_stress_use.
   double low_stress_stiffness = 0.0;
+  StabilisationUse low_stress_use = StabilisationUse::last_resort;
   double low_stress_pressure = 100.0;  ///< p_s [Pa]
   /// Whether a sub-increment solved with the low-stress stabilisation is solved again with less
   /// of it (the default; false keeps every stabilised solution, for tests of the stabilisation).
@@ -217,6 +228,9 @@ struct LoadStepResult {
   /// low_stress_stiffness): their solve without it failed.
   int stabilised = 0;
   double largest_stabilisation_share = 0.0;  ///< the largest share of η they kept
+  /// Whether the step's cuts without the stabilisation ran out and the rest of the step was
+  /// solved with it (StabilisationUse::last_resort).
+  bool rescued = false;
   double largest_accepted_residual = 0.0;
   std::vector<SubIncrementRecord> sub_increments;
   std::string message;  ///< why it failed
@@ -373,6 +387,14 @@ class QuasiStaticSolver final : public MpmState {
   /// The share of the low-stress stabilisation in force (1; lowered while a sub-increment is
   /// solved again with less of it, 0 without it).
   double stabilisation_scale_ = 1.0;
+  /// Whether the rest of a load step is being solved with the stabilisation after its cuts ran
+  /// out without it (StabilisationUse::last_resort).
+  bool rescuing_ = false;
+  /// Whether the stabilisation acts in the sub-increment being solved.
+  bool stabilisation_on() const {
+    return settings_.low_stress_stiffness > 0.0 &&
+           (settings_.low_stress_use == StabilisationUse::every_step || rescuing_);
+  }
   Vec2 boundary_reaction_ = Vec2::Zero();
   double max_penetration_ = 0.0;
   double gravity_multiplier_ = 0.0, traction_multiplier_ = 0.0, time_ = 0.0;

@@ -108,7 +108,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.on_floor.resize(std::size_t(count));
   trial.strain_increment.resize(std::size_t(count));
   // Empty without the low-stress stabilisation (the common case): nothing to add per particle.
-  const bool stabilising = settings_.low_stress_stiffness > 0.0 && stabilisation_scale_ > 0.0;
+  const bool stabilising = stabilisation_on() && stabilisation_scale_ > 0.0;
   trial.stabilising_stress.assign(stabilising ? std::size_t(count) : 0, Vec6::Zero());
   trial.gradient.resize(std::size_t(count));
   trial.hoop.resize(std::size_t(count));
