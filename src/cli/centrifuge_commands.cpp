@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -37,7 +38,20 @@ struct CentrifugeFlags {
   bool no_plots = false;
   bool overwrite = false;
   std::string analysis;  ///< --analysis: "explicit", "quasi-static", or "" (the case file's)
+  std::string restart;   ///< --restart: a checkpoint of a centrifuge run
 };
+
+// Whether the checkpoint lies in the run folder being written (DIR/mpm/checkpoint_*.h5): the
+// run continues itself there, and the folder's files are kept.
+bool restarts_in_its_own_folder(const CentrifugeFlags& flags) {
+  if (flags.restart.empty()) return false;
+  std::error_code ec;
+  const std::filesystem::path out = std::filesystem::weakly_canonical(flags.out, ec);
+  const std::filesystem::path checkpoint = std::filesystem::weakly_canonical(flags.restart, ec);
+  if (ec) return false;
+  const std::filesystem::path folder = out.has_filename() ? out : out.parent_path();
+  return checkpoint.parent_path().parent_path() == folder;
+}
 
 std::string shown(double value, const char* format) {
   return shown_number(value, format);
@@ -74,8 +88,16 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
   std::fflush(stdout);
   OutputFolderOptions folder;
   folder.overwrite = flags.overwrite;
+  folder.resume = restarts_in_its_own_folder(flags);
+  if (folder.resume && folder.overwrite)
+    throw InputError("command line", 0, "--overwrite", "",
+                     "not with --restart from a checkpoint in the output folder: it would "
+                     "remove the checkpoint (the run's own files there are kept without it)");
+  if (!flags.restart.empty() && !std::filesystem::is_regular_file(flags.restart))
+    throw InputError("command line", 0, "--restart", flags.restart, "no such checkpoint file");
   take_output_folder(flags.out, folder);
   CentrifugeRunOptions options;
+  options.restart = flags.restart;
   options.python = flags.python;
   options.plots = !flags.no_plots;
   options.progress_on_terminal = isatty(STDERR_FILENO) != 0;
@@ -130,6 +152,12 @@ void register_centrifuge_commands(CLI::App& app) {
   run->add_flag("--quiet", flags->quiet, "no progress lines on stderr");
   add_overwrite_flag(*run, flags->overwrite);
   add_analysis_option(*run, flags->analysis);
+  run->add_option(
+         "--restart", flags->restart,
+         "continue from a checkpoint of a centrifuge run (DIR/mpm/checkpoint_NN_<phase>.h5) "
+         "whose MPM case up to that phase is this case's (only the later phases may "
+         "differ: MPM-4 continues MPM-3's installation); the outputs hold the whole run")
+      ->type_name("FILE");
   run->callback([flags]() { run_centrifuge_command(*flags); });
 
   auto case_file = std::make_shared<std::string>();

@@ -5,17 +5,21 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <functional>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <optional>
+#include <sstream>
 #include <tuple>
 
 #include "pilempm/constitutive/material_state.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
+#include "pilempm/io/mpm_case_writer.hpp"
 #include "pilempm/io/mpm_output.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/output/format.hpp"
@@ -137,12 +141,143 @@ class FieldWriter final : public RunObserver {
     summary_.field_files.push_back(stem + ".csv");
   }
 
+  // The checkpoint's record: the field files so far, then the reference positions.
+  std::string saved() const {
+    std::string text = fmt::format("{}\n", summary_.field_files.size());
+    for (const std::string& file : summary_.field_files) text += file + "\n";
+    for (const mpm::Vec2& x : reference_position_)
+      text += fmt::format("{:.17g}\t{:.17g}\n", x.x(), x.y());
+    return text;
+  }
+  // The files of the run that wrote the checkpoint (`from`, its folder) copied here.
+  void restore(const std::string& saved, const std::filesystem::path& from) {
+    std::istringstream lines(saved);
+    std::size_t count = 0;
+    lines >> count;
+    lines.ignore();
+    std::vector<std::string> files(count);
+    for (std::string& file : files) std::getline(lines, file);
+    std::vector<mpm::Vec2> reference;
+    for (double r = 0.0, y = 0.0; lines >> r >> y;) reference.emplace_back(r, y);
+    if (!lines.eof()) throw Error("the field files of a checkpoint cannot be read");
+    const bool elsewhere = !std::filesystem::equivalent(from, out_dir_);
+    for (const std::string& csv : files) {
+      const std::string stem = std::filesystem::path(csv).stem().string();
+      if (elsewhere)
+        for (const std::string& file : {csv, stem + "_pile.csv", stem + ".vtu"}) {
+          std::ifstream in(from / file, std::ios::binary);
+          std::ostringstream bytes;
+          bytes << in.rdbuf();
+          if (!in)
+            throw Error(
+                fmt::format("cannot read {}, a field file of the run that wrote the "
+                            "checkpoint",
+                            (from / file).string()));
+          write_file_atomically(out_dir_ / file, bytes.str());
+        }
+      summary_.field_files.push_back(csv);
+    }
+    reference_position_ = std::move(reference);
+  }
+
  private:
   const CentrifugeScenario& s_;
   std::filesystem::path out_dir_;
   std::ostream* progress_;
   CentrifugeSummary& summary_;
   std::vector<mpm::Vec2> reference_position_;  // after the K0 phase
+};
+
+// What a centrifuge run keeps in each checkpoint besides the MPM state, so that a run restarted
+// from it (CentrifugeRunOptions::restart) writes what the whole run would have: the MPM case of
+// the phases done (a restart must continue the same case), the pile's rows, the checks so far
+// and the field files.
+class CentrifugeRunState final : public CheckpointedState {
+ public:
+  CentrifugeRunState(const MpmCase& mpm_case, PileRecorder& recorder, FieldWriter& fields,
+                     CentrifugeSummary& summary)
+      : case_(mpm_case), recorder_(recorder), fields_(fields), summary_(summary) {}
+
+  std::string record_name() const override { return "centrifuge run"; }
+
+  std::string save(std::size_t phases_done) const override {
+    std::string text = fmt::format("checks\t{:.17g}\t{:.17g}\t{}\t{}\t{:.17g}\t{:.17g}\n",
+                                   summary_.initial_stress_error, summary_.initial_stress_ratio,
+                                   summary_.particles, summary_.particles_in_pile,
+                                   summary_.max_penetration_cells, summary_.min_radius_mm);
+    const std::string done = case_before(phases_done);
+    const std::string pile = recorder_.saved();
+    const std::string fields = fields_.saved();
+    for (const auto& [name, part] :
+         {std::pair{"case", &done}, std::pair{"pile", &pile}, std::pair{"fields", &fields}})
+      text += fmt::format("{}\t{}\n{}", name, part->size(), *part);
+    return text;
+  }
+
+  void restore(const std::string& saved, std::size_t phases_done,
+               const std::filesystem::path& file) override {
+    const auto refused = [&](const std::string& why) {
+      return InputError(file.string(), 0, "--restart", file.string(), why);
+    };
+    if (saved.empty())
+      throw refused(
+          "was not written by a centrifuge run (`pilempm centrifuge run`): it holds no "
+          "centrifuge record (the pile recorded so far)");
+    std::istringstream in(saved);
+    std::string tag;
+    in >> tag >> summary_.initial_stress_error >> summary_.initial_stress_ratio >>
+        summary_.particles >> summary_.particles_in_pile >> summary_.max_penetration_cells >>
+        summary_.min_radius_mm;
+    in.ignore();
+    std::map<std::string, std::string> parts;
+    for (std::string name; in >> name;) {
+      std::size_t size = 0;
+      in >> size;
+      in.ignore();
+      std::string part(size, '\0');
+      in.read(part.data(), static_cast<std::streamsize>(size));
+      parts[name] = std::move(part);
+    }
+    if (!in.eof() || tag != "checks" || parts.size() != 3)
+      throw refused("its centrifuge record cannot be read");
+    const std::string mine = case_before(phases_done);
+    if (parts["case"] != mine)
+      throw refused(fmt::format(
+          "was written by a run whose MPM case up to its phase {} (\"{}\") differs from this "
+          "case's: {} (a restart continues the same case; only the phases after the "
+          "checkpoint may differ)",
+          phases_done, case_.phases.at(phases_done - 1).name,
+          first_difference(parts["case"], mine)));
+    recorder_.restore(parts["pile"]);
+    // The run folder that wrote the checkpoint: DIR/mpm/checkpoint_*.h5.
+    fields_.restore(parts["fields"], std::filesystem::absolute(file).parent_path().parent_path());
+  }
+
+ private:
+  // The MPM case's text with its phases before `phases` only and no title.
+  std::string case_before(std::size_t phases) const {
+    MpmCase c = case_;
+    c.title.clear();
+    c.phases.resize(std::min(phases, c.phases.size()));
+    return mpm_case_text(c);
+  }
+  static std::string first_difference(const std::string& a, const std::string& b) {
+    std::istringstream x(a), y(b);
+    std::string l, m;
+    for (int line = 1;; ++line) {
+      const bool more_x = static_cast<bool>(std::getline(x, l));
+      const bool more_y = static_cast<bool>(std::getline(y, m));
+      if (!more_x && !more_y) return "no line differs";
+      if (!more_x || !more_y || l != m)
+        return fmt::format("line {} of its MPM case is \"{}\", of this one \"{}\"", line,
+                           more_x ? l : "(none)", more_y ? m : "(none)");
+    }
+  }
+
+  const MpmCase& case_;
+  PileRecorder& recorder_;
+  FieldWriter& fields_;
+  CentrifugeSummary& summary_;
 };
 
 // The verdict of the run's own checks: "**Checks: PASS**" or "**FAILED**" with each failed
@@ -176,6 +311,11 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
       "wished in place at {:g} D, installed {:g} D.\n\n",
       1e3 * s.pile_diameter, s.g_level, s.container_radius_D, s.sand_height_D, sand,
       to_string(s.analysis), s.wished_in_place_D, s.installation_D);
+  if (!r.restarted_from.empty())
+    md += fmt::format(
+        "Continued from the checkpoint `{}`: the phases up to it are that run's (the same MPM "
+        "case), the wall time is this run's.\n\n",
+        r.restarted_from);
   md += checks_markdown(centrifuge_checks(r));
   md += "| quantity | value |\n|---|---|\n";
   md += fmt::format(
@@ -344,6 +484,15 @@ FigureSpec centrifuge_field_figure(const CentrifugeScenario& s, const std::strin
   return f;
 }
 
+std::filesystem::path centrifuge_installation_checkpoint(const CentrifugeScenario& s) {
+  const MpmCase c = centrifuge_case(s, "");
+  std::filesystem::path file;
+  for (std::size_t k = 0; k < c.phases.size(); ++k)
+    if (c.phases[k].role == MpmPhaseRole::installation && c.phases[k].checkpoint)
+      file = std::filesystem::path("mpm") / mpm_checkpoint_name(k + 1, c.phases[k].name);
+  return file;
+}
+
 std::string_view quick_centrifuge_case_text() {
   return {reinterpret_cast<const char*>(generated::kQuickCentrifugeCase),
           sizeof generated::kQuickCentrifugeCase};
@@ -437,10 +586,16 @@ CentrifugeSummary run_centrifuge(const CentrifugeScenario& s, const std::string&
   PileRecorder recorder(s, mpm_full_body_factor(mpm_case.geometry));
   CentrifugeChecks checks(s, summary);
   FieldWriter fields(s, out_dir, progress, summary);
+  CentrifugeRunState state(mpm_case, recorder, fields, summary);
   MpmRunHooks hooks;
   hooks.observers = {&recorder, &checks, &fields};
+  hooks.checkpointed = {&state};
   hooks.progress_on_terminal = options.progress_on_terminal;
-  const MpmRunSummary run = run_mpm_case(mpm_case, out_dir / "mpm", progress, {}, hooks);
+  if (!options.restart.empty() && progress != nullptr)
+    *progress << fmt::format("centrifuge: continues from {}\n", options.restart.string());
+  const MpmRunSummary run =
+      run_mpm_case(mpm_case, out_dir / "mpm", progress, options.restart, hooks);
+  summary.restarted_from = options.restart.string();
   summary.steps = run.steps;
   summary.wall_seconds = run.wall_seconds;
   const std::vector<PileRow>& rows = recorder.rows();

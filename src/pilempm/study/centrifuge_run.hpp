@@ -22,6 +22,12 @@ struct CentrifugeRunOptions {
   std::string python;                 ///< the interpreter for the plots ("" = the default search)
   bool plots = true;                  ///< draw the PNG figures
   bool progress_on_terminal = false;  ///< the progress stream is a terminal (lines in place)
+  /// A checkpoint of a centrifuge run (DIR/mpm/checkpoint_NN_<phase>.h5) to continue from: the
+  /// phases after it run, and the outputs (pile.csv, the fields, the summary) hold the whole run
+  /// as if it had run from the start. The case must give the same MPM case up to that phase
+  /// (only the later phases may differ: MPM-4 continues MPM-3's installation); else
+  /// InputError naming the checkpoint.
+  std::filesystem::path restart;
 };
 
 /// Runs the scenario into `out_dir`; `case_text` (may be empty) is the centrifuge case file's
@@ -31,6 +37,10 @@ scenario::CentrifugeSummary run_centrifuge(const scenario::CentrifugeScenario& s
                                            const std::filesystem::path& out_dir,
                                            std::ostream* progress,
                                            const CentrifugeRunOptions& options = {});
+
+/// The checkpoint at the end of the scenario's installation, relative to its run folder
+/// ("mpm/checkpoint_02_installation.h5"); empty when it has no installation.
+std::filesystem::path centrifuge_installation_checkpoint(const scenario::CentrifugeScenario& s);
 
 /// The built-in quick case (examples/centrifuge/quick.toml), the README's main job.
 std::string_view quick_centrifuge_case_text();

@@ -207,6 +207,24 @@ std::vector<std::string> case_files(const std::vector<const CentrifugeStudyGroup
   return files;
 }
 
+// The case whose installation `file` continues (CentrifugeStudyCase::continues), "" if none.
+std::string continued_case(const std::string& file) {
+  for (const CentrifugeStudyGroup& g : centrifuge_study_groups())
+    for (const CentrifugeStudyCase& c : g.cases)
+      if (c.file == file && !c.continues.empty()) return c.continues;
+  return "";
+}
+
+// The checkpoint run `file` (with scenario `s`) continues from in the study folder: the
+// installation checkpoint of the case it continues, "" when it continues none.
+std::filesystem::path continued_checkpoint(const std::filesystem::path& out_dir,
+                                           const std::string& file, const CentrifugeScenario& s) {
+  const std::string from = continued_case(file);
+  if (from.empty()) return {};
+  const std::filesystem::path checkpoint = centrifuge_installation_checkpoint(s);
+  return checkpoint.empty() ? checkpoint : out_dir / stem(from) / checkpoint;
+}
+
 // Every case file read and checked (InputError naming the file), with its text.
 std::vector<std::pair<CentrifugeScenario, std::string>> read_cases(
     const CentrifugeStudyOptions& options, const std::vector<std::string>& files) {
@@ -236,7 +254,8 @@ std::filesystem::path absolute_path(const std::filesystem::path& path) {
 // in this process: the same case text into the same folder name); `absolute`: every path
 // absolute (a command list run elsewhere), else as given (children of this process).
 ChildRun child_run(const CentrifugeStudyOptions& options, const std::filesystem::path& out_dir,
-                   const std::string& file, bool absolute) {
+                   const std::string& file, bool absolute,
+                   const std::filesystem::path& restart = {}) {
   const auto path = [absolute](const std::filesystem::path& p) {
     return (absolute ? absolute_path(p) : p).string();
   };
@@ -253,6 +272,10 @@ ChildRun child_run(const CentrifugeStudyOptions& options, const std::filesystem:
   if (!options.python.empty()) {
     run.arguments.emplace_back("--python");
     run.arguments.push_back(options.python);
+  }
+  if (!restart.empty()) {
+    run.arguments.emplace_back("--restart");
+    run.arguments.push_back(path(restart));
   }
   run.log = path(out_dir / "logs" / (stem(file) + ".log"));
   return run;
@@ -288,13 +311,17 @@ std::string summary_words(const std::filesystem::path& summary) {
 
 // Runs the cases `to_run` (indices into `files`) as child processes, options.jobs at once, each
 // on one thread; a line per run as it ends. Returns the runs that did not finish, in case order.
-std::vector<CentrifugeStudyFailure> run_as_children(const CentrifugeStudyOptions& options,
-                                                    const std::filesystem::path& out_dir,
-                                                    const std::vector<std::string>& files,
-                                                    const std::vector<std::size_t>& to_run,
-                                                    std::ostream* progress) {
+std::vector<CentrifugeStudyFailure> run_as_children(
+    const CentrifugeStudyOptions& options, const std::filesystem::path& out_dir,
+    const std::vector<std::string>& files,
+    const std::vector<std::pair<CentrifugeScenario, std::string>>& scenarios,
+    const std::vector<std::size_t>& to_run, std::ostream* progress) {
   std::vector<ChildRun> runs;
-  for (const std::size_t k : to_run) runs.push_back(child_run(options, out_dir, files[k], false));
+  for (const std::size_t k : to_run) {
+    std::filesystem::path restart = continued_checkpoint(out_dir, files[k], scenarios[k].first);
+    if (!restart.empty() && !std::filesystem::exists(restart)) restart.clear();
+    runs.push_back(child_run(options, out_dir, files[k], false, restart));
+  }
   if (runs.empty()) return {};
   prepare_output_directory(out_dir / "logs");
   for (const ChildRun& run : runs) note_output_file(run.log);  // the study's files
@@ -368,7 +395,8 @@ const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
        {{"mpm1_wished_in_place.toml", "MPM-1 (wished in place at 20 D, original)"},
         {"md_original.toml", "MPM-2 (installed, original)"},
         {"md_modified.toml", "MPM-3 (installed, modified)"},
-        {"mpm4_modified_then_original.toml", "MPM-4 (installed modified, SLT original)"},
+        {"mpm4_modified_then_original.toml", "MPM-4 (installed modified, SLT original)",
+         "md_modified.toml"},
         {"mpm2_mohr_coulomb.toml", "MPM-2 with Mohr-Coulomb sand"}}},
       {"igs",
        "IGS study: small model (R = 6 D), installation to 4.7 D",
@@ -420,12 +448,35 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
   }
   std::vector<CentrifugeStudyFailure> unfinished;
   if (options.jobs > 1) {
-    unfinished = run_as_children(options, out_dir, files, to_run, progress);
+    // A run that continues another's installation waits for it when that one runs too.
+    std::vector<std::size_t> first, then;
+    for (const std::size_t k : to_run) {
+      const std::string from = continued_case(files[k]);
+      const bool waits =
+          !from.empty() && std::any_of(to_run.begin(), to_run.end(),
+                                       [&](std::size_t j) { return files[j] == from; });
+      (waits ? then : first).push_back(k);
+    }
+    unfinished = run_as_children(options, out_dir, files, scenarios, first, progress);
+    for (CentrifugeStudyFailure& f :
+         run_as_children(options, out_dir, files, scenarios, then, progress))
+      unfinished.push_back(std::move(f));
+    const auto index = [&](const CentrifugeStudyFailure& f) {
+      return std::find(files.begin(), files.end(), f.file) - files.begin();
+    };
+    std::stable_sort(unfinished.begin(), unfinished.end(),
+                     [&](const auto& a, const auto& b) { return index(a) < index(b); });
   } else {
     for (const std::size_t k : to_run) {
       const std::filesystem::path dir = out_dir / stem(files[k]);
+      std::filesystem::path restart = continued_checkpoint(out_dir, files[k], scenarios[k].first);
+      if (!restart.empty() && !std::filesystem::exists(restart)) restart.clear();
       if (progress != nullptr)
-        *progress << fmt::format("study: running {} ({}/{})\n", files[k], k + 1, files.size())
+        *progress << fmt::format("study: running {} ({}/{}){}\n", files[k], k + 1, files.size(),
+                                 restart.empty()
+                                     ? std::string()
+                                     : fmt::format(", from {}'s installation ({})",
+                                                   continued_case(files[k]), restart.string()))
                   << std::flush;
       // The case's folder is the study's own: what an earlier, unfinished run of the case left
       // there is replaced.
@@ -435,6 +486,7 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
       CentrifugeRunOptions run_options;
       run_options.plots = options.plots;
       run_options.python = options.python;
+      run_options.restart = restart;
       const CentrifugeSummary s =
           run_centrifuge(scenarios[k].first, scenarios[k].second, dir, progress, run_options);
       const std::vector<CentrifugeCheck> failed = failed_checks(centrifuge_checks(s));
@@ -525,21 +577,40 @@ std::size_t write_centrifuge_study_commands(const CentrifugeStudyOptions& option
                                             const std::filesystem::path& out_dir,
                                             const std::filesystem::path& file) {
   const std::vector<std::string> files = case_files(chosen_groups(options.groups));
-  (void)read_cases(options, files);  // every case file checked before anything runs
+  const std::vector<std::pair<CentrifugeScenario, std::string>> scenarios =
+      read_cases(options, files);  // every case file checked before anything runs
   check_program(options);
   prepare_output_directory(out_dir / "logs");
-  std::string text;
-  std::size_t lines = 0;
-  for (const std::string& case_file : files) {
-    if (options.resume && std::filesystem::exists(out_dir / stem(case_file) / "summary.csv"))
-      continue;
-    const ChildRun run = child_run(options, out_dir, case_file, true);
+  const auto kept = [&](const std::string& case_file) {
+    return options.resume && std::filesystem::exists(out_dir / stem(case_file) / "summary.csv");
+  };
+  // One line per run; a run that continues another's installation follows it on its line
+  // (`A && B`) when that one is in the list, else it starts from the checkpoint if there is one.
+  std::vector<std::string> lines_of(files.size());
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    if (kept(files[k])) continue;
+    const std::filesystem::path restart =
+        continued_checkpoint(out_dir, files[k], scenarios[k].first);
+    const std::string from = continued_case(files[k]);
+    const auto source = std::find(files.begin(), files.end(), from);
+    const bool follows = !restart.empty() && source != files.end() && !kept(from);
+    const ChildRun run =
+        child_run(options, out_dir, files[k], true,
+                  follows || std::filesystem::exists(restart) ? restart : std::filesystem::path());
     note_output_file(run.log);  // written by the shell, a file of the study
     // One thread per run unless the environment says otherwise (a Slurm task with several
     // CPUs: OMP_NUM_THREADS=$SLURM_CPUS_PER_TASK).
-    text += shell_command(run, {"OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}"}) + "\n";
-    ++lines;
+    const std::string command = shell_command(run, {"OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}"});
+    std::string& line = lines_of[follows ? std::size_t(source - files.begin()) : k];
+    line += (line.empty() ? "" : " && ") + command;
   }
+  std::string text;
+  std::size_t lines = 0;
+  for (const std::string& line : lines_of)
+    if (!line.empty()) {
+      text += line + "\n";
+      ++lines;
+    }
   write_file_atomically(file, text);
   return lines;
 }

@@ -8,6 +8,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "pilempm/simulation/mpm_case.hpp"
@@ -15,8 +16,14 @@
 namespace pilempm {
 
 struct CentrifugeStudyCase {
+  CentrifugeStudyCase(std::string file_name, std::string legend, std::string continued = {})
+      : file(std::move(file_name)), label(std::move(legend)), continues(std::move(continued)) {}
   std::string file;   ///< in the cases folder, e.g. "md_original.toml"
   std::string label;  ///< in legends and tables, e.g. "MPM-2"
+  /// The case whose installation this run continues (`pilempm centrifuge run --restart` from
+  /// its installation checkpoint; its MPM case up to there must be this one's), run before it;
+  /// from the start when that checkpoint does not exist. Empty: from the start.
+  std::string continues;
 };
 
 struct CentrifugeStudyGroup {
@@ -61,7 +68,9 @@ struct CentrifugeStudyFailure {
 /// or a case file that is missing or wrong, before any run. Returns, in the order of the study's
 /// cases, the runs that did not finish (jobs > 1; the others still run) and the runs of the
 /// chosen groups that exist and failed their own checks (README.md marks both); their results
-/// are kept.
+/// are kept. A run that continues another's installation (CentrifugeStudyCase::continues: MPM-4
+/// from MPM-3's) runs after it, from its installation checkpoint when that exists (with jobs > 1
+/// in a second round of child runs), else from the start.
 std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOptions& options,
                                                          const std::filesystem::path& out_dir,
                                                          std::ostream* progress);
@@ -69,7 +78,9 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
 /// The runs of the study as a command list: one shell command line per case file of the chosen
 /// groups (without those kept by `resume`), in the study's order, each `program centrifuge run
 /// CASE --out DIR/<case> --overwrite` with absolute paths and its output into
-/// DIR/logs/<case>.log, one thread per run unless OMP_NUM_THREADS is set. GNU parallel
+/// DIR/logs/<case>.log, one thread per run unless OMP_NUM_THREADS is set; a run that continues
+/// another's installation (CentrifugeStudyCase::continues) follows that one on its line
+/// (`A && B --restart ...`), or starts from its checkpoint when that run is kept. GNU parallel
 /// (`parallel -j N < FILE`) or a Slurm job array (line $SLURM_ARRAY_TASK_ID) runs them; then
 /// run_centrifuge_study with report_only gathers them. Reads and checks every case file first
 /// (InputError), creates DIR/logs/, writes `file` (atomically) and returns the number of lines.

@@ -52,6 +52,7 @@ struct CentrifugeSummary {
   double max_penetration_cells = 0.0;
   double min_radius_mm = 0.0;
   std::vector<std::string> field_files;
+  std::string restarted_from;  ///< the checkpoint the run continued from ("" from the start)
   std::vector<std::string> figures;
   std::string plot_problem;  ///< "" when the figures were drawn (or not asked for)
 };

@@ -1,7 +1,13 @@
 // The pile of a centrifuge run as it is recorded: see pile_recorder.hpp.
 #include "pilempm/scenario/centrifuge/pile_recorder.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+#include "pilempm/core/error.hpp"
 
 namespace pilempm::scenario {
 
@@ -19,6 +25,68 @@ double pile_y(const mpm::MpmState& solver) {
 
 PileRecorder::PileRecorder(const CentrifugeScenario& s, double factor)
     : s_(s), factor_(factor), interval_(s.record_interval_D * s.pile_diameter) {}
+
+void PileRecorder::run_start(const simulation::Scheme& scheme, std::size_t first_phase) {
+  if (first_phase == 0) return;
+  const mpm::MpmState& solver = scheme.state();
+  last_row_y_ = phase_start_y_ = pile_y(solver);
+  last_reaction_ = solver.boundary_reaction();
+  momentum_ = factor_ * solver.vertical_momentum();
+  if (!rows_.empty()) soil_weight_ = rows_.back().soil_weight;
+}
+
+namespace {
+
+// The numbers of a row in the order of PileRecorder::saved().
+std::vector<double*> row_numbers(PileRow& r) {
+  return {&r.time,      &r.displacement,  &r.phase_displacement,
+          &r.tip_depth, &r.head,          &r.tip,
+          &r.shaft,     &r.base_reaction, &r.soil_weight,
+          &r.kinetic,   &r.pile_work,     &r.momentum_rate,
+          &r.damping};
+}
+
+}  // namespace
+
+std::string PileRecorder::saved() const {
+  std::string text;
+  for (PileRow row : rows_) {
+    text += fmt::format("{}\t{}", row.phase, static_cast<int>(row.role));
+    for (const double* v : row_numbers(row)) text += fmt::format("\t{:.17g}", *v);
+    text += '\n';
+  }
+  return text;
+}
+
+void PileRecorder::restore(const std::string& saved) {
+  std::vector<PileRow> rows;
+  std::istringstream lines(saved);
+  std::string line;
+  while (std::getline(lines, line)) {
+    // phase, role, then the numbers, separated by tabs (strtod reads "nan" and "inf" too).
+    std::vector<std::string> fields;
+    std::istringstream parts(line);
+    for (std::string field; std::getline(parts, field, '\t');) fields.push_back(field);
+    PileRow row;
+    std::vector<double*> numbers = row_numbers(row);
+    bool ok = fields.size() == numbers.size() + 2 && !fields[0].empty();
+    for (std::size_t k = 1; ok && k < fields.size(); ++k) {
+      char* end = nullptr;
+      const double value = std::strtod(fields[k].c_str(), &end);
+      ok = end != fields[k].c_str() && *end == '\0';
+      if (k == 1)
+        row.role = static_cast<MpmPhaseRole>(static_cast<int>(value));
+      else
+        *numbers[k - 2] = value;
+    }
+    if (!ok)
+      throw Error(fmt::format("the pile's rows of a checkpoint: line {} cannot be read: {}",
+                              rows.size() + 1, line));
+    row.phase = fields[0];
+    rows.push_back(std::move(row));
+  }
+  rows_ = std::move(rows);
+}
 
 void PileRecorder::after_step(const simulation::Scheme& scheme, const MpmPhase& phase, double dt) {
   const mpm::MpmState& solver = scheme.state();

@@ -42,11 +42,19 @@ class PileRecorder final : public simulation::RunObserver {
   /// `factor`: full pile per solver force (simulation::mpm_full_body_factor).
   PileRecorder(const CentrifugeScenario& scenario, double factor);
 
+  /// On a restart (first_phase > 0) the recorder goes on from the pile's place in the
+  /// restored state, after the rows given back by restore().
+  void run_start(const simulation::Scheme& scheme, std::size_t first_phase) override;
   void after_step(const simulation::Scheme& scheme, const simulation::MpmPhase& phase,
                   double dt) override;
   void phase_end(const simulation::Scheme& scheme, const simulation::MpmPhase& phase) override;
 
   const std::vector<PileRow>& rows() const { return rows_; }
+
+  /// The rows so far as text (to 17 digits, a run's checkpoint keeps them) and back; taken at
+  /// a phase end, where no means are pending. restore() throws Error on text it did not write.
+  std::string saved() const;
+  void restore(const std::string& saved);
 
  private:
   void add_row(const mpm::MpmState& solver, const simulation::MpmPhase& phase);
