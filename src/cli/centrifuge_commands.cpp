@@ -45,10 +45,11 @@ struct CentrifugeFlags {
 // run continues itself there, and the folder's files are kept.
 bool restarts_in_its_own_folder(const CentrifugeFlags& flags) {
   if (flags.restart.empty()) return false;
-  std::error_code ec;
-  const std::filesystem::path out = std::filesystem::weakly_canonical(flags.out, ec);
-  const std::filesystem::path checkpoint = std::filesystem::weakly_canonical(flags.restart, ec);
-  if (ec) return false;
+  std::error_code out_error, checkpoint_error;
+  const std::filesystem::path out = std::filesystem::weakly_canonical(flags.out, out_error);
+  const std::filesystem::path checkpoint =
+      std::filesystem::weakly_canonical(flags.restart, checkpoint_error);
+  if (out_error || checkpoint_error) return false;
   const std::filesystem::path folder = out.has_filename() ? out : out.parent_path();
   return checkpoint.parent_path().parent_path() == folder;
 }

@@ -129,7 +129,8 @@ void write_centrifuge_study_commands_command(const CentrifugeStudyOptions& optio
                                  ? std::string()
                                  : fmt::format(" --groups {}", fmt::join(flags.groups, ","));
   fmt::print(
-      "wrote {} command{} (one run a line) to {}; their folders go to {}/, their output to "
+      "wrote {} command{} (one run a line; MPM-4 on MPM-3's) to {}; their folders go to {}/, their "
+      "output to "
       "{}/logs/.\nRun them, e.g. `parallel -j 4 < {}` (GNU parallel; over ssh hosts with "
       "--sshloginfile) or as a Slurm job array (`sed -n \"${{SLURM_ARRAY_TASK_ID}}p\" {} | "
       "bash`), then gather them:\n  pilempm study centrifuge --out {} --cases {}{}{} "

@@ -1,6 +1,6 @@
 // A run of the study that continues another's installation (MPM-4 from MPM-3's,
 // CentrifugeStudyCase::continues): serially, as child runs (--jobs 2, where it waits for the
-// other in a second round) and from the command list (on its source's line, `A && B`), it starts
+// other in a second round) and from the command list (on its source's line, after it), it starts
 // from the installation checkpoint of that run and writes what a run of its case from the start
 // writes. The cases are five tiny quasi-static ones (R = 4 D, D/2, 0.5 D of installation,
 // relaxation and a 0.05 D load test; about a second each) under the names of the `slt` group's
@@ -110,7 +110,7 @@ TEST_F(StudyContinuedCli, AsChildRunsMpm4WaitsForMpm3AndContinuesIt) {
   expect_same_as(out / "mpm4_modified_then_original", whole());
 }
 
-TEST_F(StudyContinuedCli, TheCommandListPutsMpm4OnMpm3sLine) {
+TEST_F(StudyContinuedCli, TheCommandListPutsMpm4OnMpm3sLineFromItsCheckpoint) {
   const fs::path out = *dir_ / "commands";
   const fs::path commands = *dir_ / "commands.txt";
   Result r = run_pilempm(
@@ -122,13 +122,21 @@ TEST_F(StudyContinuedCli, TheCommandListPutsMpm4OnMpm3sLine) {
   ASSERT_EQ(lines.size(), 4u);
   int chained = 0;
   for (const std::string& line : lines) {
-    if (line.find(" && ") == std::string::npos) continue;
+    if (line.find("; if [ -f ") == std::string::npos) continue;
     ++chained;
+    // MPM-3, then MPM-4 from its installation checkpoint where MPM-3 wrote it, else from the
+    // start.
     const std::size_t mpm3 = line.find("md_modified.toml");
     const std::size_t mpm4 = line.find("mpm4_modified_then_original.toml");
     ASSERT_NE(mpm3, std::string::npos) << line;
     EXPECT_LT(mpm3, mpm4) << line;
+    const std::size_t test = line.find("; if [ -f ");
+    const std::size_t checkpoint = line.find("md_modified/mpm/checkpoint_02_installation.h5");
+    const std::size_t then = line.find(" ]; then ");
+    EXPECT_LT(test, checkpoint) << line;
+    EXPECT_LT(checkpoint, then) << line;
     EXPECT_NE(line.find("--restart"), std::string::npos) << line;
+    EXPECT_NE(line.find("; else "), std::string::npos) << line;
   }
   EXPECT_EQ(chained, 1);
   // Each line as a Slurm array task would run it, one after the other.

@@ -181,8 +181,9 @@ std::string mpm_load_steps_header() {
          "sum over them); accepted: sub-increments accepted above the force tolerance "
          "(accept_tolerance) and the largest ||R|| / F_ref of them; stabilised: sub-increments "
          "that kept the low-stress stabilisation's stress (low_stress_stiffness) and the largest "
-         "share of it they kept; rescued: 1 where the step's cuts without the stabilisation ran "
-         "out and it was finished with it (low_stress_use = \"last_resort\"); penetration: the "
+         "share of it they kept; rescued: the step's solves whose cuts without the stabilisation "
+         "ran out and that were finished with it (low_stress_use = \"last_resort\"); penetration: "
+         "the "
          "largest of a contact point into a body at the "
          "step's end\n"
          "time_s,step,phase,solves,iterations,cuts,accepted,largest_accepted_residual,stabilised,"
@@ -443,7 +444,7 @@ class MpmOutputWriter final : public RunObserver {
       const std::string name = state->record_name();
       if (info.records.count(name) != 0)
         throw Error(fmt::format("checkpoint record \"{}\" named twice", name));
-      info.records[name] = state->save(phases_done);
+      info.records[name] = state->save(phases_done, prefix.empty());
     }
     const std::filesystem::path file =
         out_dir_ / (prefix + mpm_checkpoint_name(phases_done, phase.name));

@@ -104,8 +104,10 @@ class CheckpointedState {
   /// The record's name in the checkpoint: unique, not one of the run's own (energies.csv,
   /// bodies.csv, load_steps.csv, particles.pvd).
   virtual std::string record_name() const = 0;
-  /// The state at a checkpoint after `phases_done` phases.
-  virtual std::string save(std::size_t phases_done) const = 0;
+  /// The state at a checkpoint after `phases_done` phases: at the end of the last of them, or,
+  /// where `at_phase_end` is false, in the middle of the next one (the last converged state of
+  /// a quasi-static phase that failed, last_converged_checkpoint_*.h5).
+  virtual std::string save(std::size_t phases_done, bool at_phase_end) const = 0;
   /// The state of the checkpoint `file` (written after `phases_done` phases), before the first
   /// phase of the restarted run; `saved` is empty when the checkpoint has no such record.
   /// Throws InputError naming the file when the checkpoint cannot continue this run.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <functional>
 #include <iostream>
@@ -41,6 +42,23 @@ using namespace scenario;
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The numbers of a line of a checkpoint's centrifuge record, separated by tabs, after a first
+// field `tag` where the line has one ("checks"); strtod reads "nan" and "inf" too. Empty when
+// a field is not a number.
+std::vector<double> tab_separated_numbers(const std::string& line, const std::string& tag) {
+  std::vector<double> numbers;
+  std::istringstream fields(line);
+  bool first = true;
+  for (std::string field; std::getline(fields, field, '\t'); first = false) {
+    if (first && field == tag) continue;
+    char* end = nullptr;
+    const double value = std::strtod(field.c_str(), &end);
+    if (end == field.c_str() || *end != '\0') return {};
+    numbers.push_back(value);
+  }
+  return numbers;
+}
 
 std::string pile_csv(const std::vector<PileRow>& rows, double D) {
   const double tip_area = std::numbers::pi * 0.25 * D * D;
@@ -158,8 +176,11 @@ class FieldWriter final : public RunObserver {
     std::vector<std::string> files(count);
     for (std::string& file : files) std::getline(lines, file);
     std::vector<mpm::Vec2> reference;
-    for (double r = 0.0, y = 0.0; lines >> r >> y;) reference.emplace_back(r, y);
-    if (!lines.eof()) throw Error("the field files of a checkpoint cannot be read");
+    for (std::string line; std::getline(lines, line);) {
+      const std::vector<double> x = tab_separated_numbers(line, "field reference positions");
+      if (x.size() != 2) throw Error("the field files of a checkpoint cannot be read");
+      reference.emplace_back(x[0], x[1]);
+    }
     const bool elsewhere = !std::filesystem::equivalent(from, out_dir_);
     for (const std::string& csv : files) {
       const std::string stem = std::filesystem::path(csv).stem().string();
@@ -200,11 +221,11 @@ class CentrifugeRunState final : public CheckpointedState {
 
   std::string record_name() const override { return "centrifuge run"; }
 
-  std::string save(std::size_t phases_done) const override {
-    std::string text = fmt::format("checks\t{:.17g}\t{:.17g}\t{}\t{}\t{:.17g}\t{:.17g}\n",
-                                   summary_.initial_stress_error, summary_.initial_stress_ratio,
-                                   summary_.particles, summary_.particles_in_pile,
-                                   summary_.max_penetration_cells, summary_.min_radius_mm);
+  std::string save(std::size_t phases_done, bool at_phase_end) const override {
+    std::string text = fmt::format(
+        "checks\t{}\t{:.17g}\t{:.17g}\t{}\t{}\t{:.17g}\t{:.17g}\n", at_phase_end ? 1 : 0,
+        summary_.initial_stress_error, summary_.initial_stress_ratio, summary_.particles,
+        summary_.particles_in_pile, summary_.max_penetration_cells, summary_.min_radius_mm);
     const std::string done = case_before(phases_done);
     const std::string pile = recorder_.saved();
     const std::string fields = fields_.saved();
@@ -224,22 +245,32 @@ class CentrifugeRunState final : public CheckpointedState {
           "was not written by a centrifuge run (`pilempm centrifuge run`): it holds no "
           "centrifuge record (the pile recorded so far)");
     std::istringstream in(saved);
-    std::string tag;
-    in >> tag >> summary_.initial_stress_error >> summary_.initial_stress_ratio >>
-        summary_.particles >> summary_.particles_in_pile >> summary_.max_penetration_cells >>
-        summary_.min_radius_mm;
-    in.ignore();
+    std::string checks;
+    std::getline(in, checks);
+    const std::vector<double> numbers = tab_separated_numbers(checks, "checks");
+    bool readable = numbers.size() == 7;
     std::map<std::string, std::string> parts;
-    for (std::string name; in >> name;) {
+    for (std::string name; readable && in >> name;) {
       std::size_t size = 0;
       in >> size;
       in.ignore();
       std::string part(size, '\0');
       in.read(part.data(), static_cast<std::streamsize>(size));
+      readable = static_cast<std::size_t>(in.gcount()) == size;
       parts[name] = std::move(part);
     }
-    if (!in.eof() || tag != "checks" || parts.size() != 3)
-      throw refused("its centrifuge record cannot be read");
+    if (!readable || parts.size() != 3) throw refused("its centrifuge record cannot be read");
+    if (numbers[0] != 1.0)
+      throw refused(fmt::format(
+          "holds the last converged state of a phase that failed (\"{}\"), in its middle: a "
+          "centrifuge run continues from the end of a phase (checkpoint_NN_<phase>.h5)",
+          case_.phases.at(phases_done).name));
+    summary_.initial_stress_error = numbers[1];
+    summary_.initial_stress_ratio = numbers[2];
+    summary_.particles = static_cast<std::size_t>(numbers[3]);
+    summary_.particles_in_pile = static_cast<std::size_t>(numbers[4]);
+    summary_.max_penetration_cells = numbers[5];
+    summary_.min_radius_mm = numbers[6];
     const std::string mine = case_before(phases_done);
     if (parts["case"] != mine)
       throw refused(fmt::format(

@@ -584,26 +584,39 @@ std::size_t write_centrifuge_study_commands(const CentrifugeStudyOptions& option
   const auto kept = [&](const std::string& case_file) {
     return options.resume && std::filesystem::exists(out_dir / stem(case_file) / "summary.csv");
   };
-  // One line per run; a run that continues another's installation follows it on its line
-  // (`A && B`) when that one is in the list, else it starts from the checkpoint if there is one.
+  // One line per run. A run that continues another's installation follows that one on its
+  // line when it is in the list, from its checkpoint where that run wrote one (whether or not
+  // it then passed its checks) and else from the start:
+  //   A; if [ -f CHECKPOINT ]; then B --restart CHECKPOINT; else B; fi
+  // When that run is kept (--resume), it starts from the checkpoint if there is one.
+  // One thread per run unless the environment says otherwise (a Slurm task with several CPUs:
+  // OMP_NUM_THREADS=$SLURM_CPUS_PER_TASK).
+  const std::vector<std::string> environment{"OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}"};
   std::vector<std::string> lines_of(files.size());
+  std::vector<std::pair<std::size_t, std::string>> following;  // (source, its continuation)
   for (std::size_t k = 0; k < files.size(); ++k) {
     if (kept(files[k])) continue;
     const std::filesystem::path restart =
         continued_checkpoint(out_dir, files[k], scenarios[k].first);
-    const std::string from = continued_case(files[k]);
-    const auto source = std::find(files.begin(), files.end(), from);
-    const bool follows = !restart.empty() && source != files.end() && !kept(from);
-    const ChildRun run =
-        child_run(options, out_dir, files[k], true,
-                  follows || std::filesystem::exists(restart) ? restart : std::filesystem::path());
-    note_output_file(run.log);  // written by the shell, a file of the study
-    // One thread per run unless the environment says otherwise (a Slurm task with several
-    // CPUs: OMP_NUM_THREADS=$SLURM_CPUS_PER_TASK).
-    const std::string command = shell_command(run, {"OMP_NUM_THREADS=${OMP_NUM_THREADS:-1}"});
-    std::string& line = lines_of[follows ? std::size_t(source - files.begin()) : k];
-    line += (line.empty() ? "" : " && ") + command;
+    const auto source = std::find(files.begin(), files.end(), continued_case(files[k]));
+    const bool follows = !restart.empty() && source != files.end() && !kept(*source);
+    const ChildRun plain = child_run(options, out_dir, files[k], true);
+    note_output_file(plain.log);  // written by the shell, a file of the study
+    if (!follows) {
+      lines_of[k] = shell_command(std::filesystem::exists(restart)
+                                      ? child_run(options, out_dir, files[k], true, restart)
+                                      : plain,
+                                  environment);
+      continue;
+    }
+    following.emplace_back(
+        std::size_t(source - files.begin()),
+        fmt::format(
+            "; if [ -f {} ]; then {}; else {}; fi", shell_word(absolute_path(restart).string()),
+            shell_command(child_run(options, out_dir, files[k], true, restart), environment),
+            shell_command(plain, environment)));
   }
+  for (const auto& [source, continuation] : following) lines_of[source] += continuation;
   std::string text;
   std::size_t lines = 0;
   for (const std::string& line : lines_of)

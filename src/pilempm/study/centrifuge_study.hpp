@@ -80,7 +80,8 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
 /// CASE --out DIR/<case> --overwrite` with absolute paths and its output into
 /// DIR/logs/<case>.log, one thread per run unless OMP_NUM_THREADS is set; a run that continues
 /// another's installation (CentrifugeStudyCase::continues) follows that one on its line
-/// (`A && B --restart ...`), or starts from its checkpoint when that run is kept. GNU parallel
+/// (`A; if [ -f CHECKPOINT ]; then B --restart CHECKPOINT; else B; fi`), or starts from its
+/// checkpoint when that run is kept. GNU parallel
 /// (`parallel -j N < FILE`) or a Slurm job array (line $SLURM_ARRAY_TASK_ID) runs them; then
 /// run_centrifuge_study with report_only gathers them. Reads and checks every case file first
 /// (InputError), creates DIR/logs/, writes `file` (atomically) and returns the number of lines.

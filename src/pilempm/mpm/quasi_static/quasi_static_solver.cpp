@@ -654,6 +654,15 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
   double first_failed = 0.0;
   int cuts_allowed = settings_.max_cuts;
   rescuing_ = false;
+  // Whatever way the step ends (an exception from a commit too), the stabilisation is off
+  // after it and at its full share.
+  struct StabilisationReset {
+    QuasiStaticSolver& solver;
+    ~StabilisationReset() {
+      solver.rescuing_ = false;
+      solver.stabilisation_scale_ = 1.0;
+    }
+  } reset{*this};
   LoadStep remaining = load;
   while (done < 1.0 - 1.0e-12) {
     size = std::min(size, 1.0 - done);
@@ -687,7 +696,6 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
       continue;
     }
     if (result.cuts >= cuts_allowed) {
-      rescuing_ = false;
       particles_ = start_particles;
       bodies_ = start_bodies;
       body_forces_ = start_forces;
@@ -714,7 +722,6 @@ LoadStepResult QuasiStaticSolver::solve_step(const LoadStep& load) {
     ++result.cuts;
     size *= 0.5;
   }
-  rescuing_ = false;
   result.converged = true;
   result.message.clear();
   time_ += load.duration;
