@@ -94,8 +94,13 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
     throw InputError("command line", 0, "--overwrite", "",
                      "not with --restart from a checkpoint in the output folder: it would "
                      "remove the checkpoint (the run's own files there are kept without it)");
-  if (!flags.restart.empty() && !std::filesystem::is_regular_file(flags.restart))
-    throw InputError("command line", 0, "--restart", flags.restart, "no such checkpoint file");
+  if (!flags.restart.empty()) {
+    if (!std::filesystem::is_regular_file(flags.restart))
+      throw InputError("command line", 0, "--restart", flags.restart, "no such checkpoint file");
+    // Before the output folder is touched: a checkpoint that cannot continue the case costs
+    // nothing written.
+    check_centrifuge_restart(scenario, flags.restart);
+  }
   take_output_folder(flags.out, folder);
   CentrifugeRunOptions options;
   options.restart = flags.restart;

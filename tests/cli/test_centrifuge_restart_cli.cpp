@@ -3,8 +3,9 @@
 // the MPM records, the summary but its wall time), whether it continues its own run or another
 // run whose MPM case is the same up to that phase (MPM-4 from MPM-3's installation: only the
 // load test's set differs); a case that differs before the checkpoint, a checkpoint of a plain
-// MPM run and a missing file are errors naming the checkpoint. Tiny quasi-static cases (R = 4 D,
-// D/2, 0.5 D of installation, relaxation, 0.05 D load test; 173 particles, about a second).
+// MPM run and a missing file are errors naming the checkpoint, before the output folder is touched.
+// Tiny quasi-static cases (R = 4 D, D/2, 0.5 D of installation, relaxation, 0.05 D load test; 173
+// particles, about a second).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -98,6 +99,13 @@ TEST(CentrifugeRestartCli, ACheckpointThatCannotContinueTheCaseIsAnErrorNamingIt
   EXPECT_NE(r.output.find(installed.string()), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("differs from this case's"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("density_kg_per_m3"), std::string::npos) << r.output;
+  // Checked before the output folder is touched: none is made, and an old one given with
+  // --overwrite keeps its files.
+  EXPECT_FALSE(fs::exists(dir / "C"));
+  const std::string kept = read_text(dir / "A" / "summary.csv");
+  r = run_case(c, dir / "A", "--overwrite --restart '" + installed.string() + "'");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_EQ(read_text(dir / "A" / "summary.csv"), kept);
 
   // A checkpoint of `pilempm mpm run` has no centrifuge record.
   ASSERT_EQ(run_pilempm("mpm run '" + (dir / "A" / "mpm_case.toml").string() + "' --out '" +
@@ -108,6 +116,7 @@ TEST(CentrifugeRestartCli, ACheckpointThatCannotContinueTheCaseIsAnErrorNamingIt
                "--restart '" + (dir / "M" / "checkpoint_02_installation.h5").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("not written by a centrifuge run"), std::string::npos) << r.output;
+  EXPECT_FALSE(fs::exists(dir / "D"));
 
   r = run_case(a, dir / "E", "--restart '" + (dir / "none.h5").string() + "'");
   EXPECT_EQ(r.exit_code, 2) << r.output;

@@ -48,4 +48,9 @@ void write_mpm_checkpoint(const std::filesystem::path& file, const mpm::MpmState
 /// naming the file and what does not match (nothing in `solver` is changed then).
 MpmCheckpointInfo read_mpm_checkpoint(const std::filesystem::path& file, mpm::MpmState& solver);
 
+/// The run information of `file` alone (the next phase, the records; `threads` not set), for a
+/// check before a restart changes anything. Throws InputError naming the file when it is not a
+/// readable checkpoint of this build's format.
+MpmCheckpointInfo read_mpm_checkpoint_info(const std::filesystem::path& file);
+
 }  // namespace pilempm

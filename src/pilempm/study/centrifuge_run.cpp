@@ -21,6 +21,7 @@
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_case_writer.hpp"
+#include "pilempm/io/mpm_checkpoint.hpp"
 #include "pilempm/io/mpm_output.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 #include "pilempm/io/output/format.hpp"
@@ -209,6 +210,90 @@ class FieldWriter final : public RunObserver {
   std::vector<mpm::Vec2> reference_position_;  // after the K0 phase
 };
 
+// The name of a centrifuge run's record in its checkpoints.
+constexpr const char* kCentrifugeRecord = "centrifuge run";
+
+// The MPM case's text with its phases before `phases` only and no title: what a checkpoint
+// after `phases` phases must share with the case that continues it.
+std::string case_before(const MpmCase& mpm_case, std::size_t phases) {
+  MpmCase c = mpm_case;
+  c.title.clear();
+  c.phases.resize(std::min(phases, c.phases.size()));
+  return mpm_case_text(c);
+}
+
+std::string first_difference(const std::string& a, const std::string& b) {
+  std::istringstream x(a), y(b);
+  std::string l, m;
+  for (int line = 1;; ++line) {
+    const bool more_x = static_cast<bool>(std::getline(x, l));
+    const bool more_y = static_cast<bool>(std::getline(y, m));
+    if (!more_x && !more_y) return "no line differs";
+    if (!more_x || !more_y || l != m)
+      return fmt::format("line {} of its MPM case is \"{}\", of this one \"{}\"", line,
+                         more_x ? l : "(none)", more_y ? m : "(none)");
+  }
+}
+
+// A checkpoint's centrifuge record, read: the checks so far (at_phase_end, then the six numbers
+// of CentrifugeRunState::save) and the parts "case", "pile" and "fields".
+struct CentrifugeRecord {
+  std::vector<double> checks;
+  std::map<std::string, std::string> parts;
+};
+
+// The record `saved` of the checkpoint `file` (after `phases_done` phases), read and checked
+// against the MPM case `mpm_case` that is to continue it: InputError naming the checkpoint when
+// it has none (a checkpoint of `pilempm mpm run`), cannot be read, was taken in the middle of a
+// phase, or was written by a case that differs before it.
+CentrifugeRecord checked_centrifuge_record(const MpmCase& mpm_case, const std::string& saved,
+                                           std::size_t phases_done,
+                                           const std::filesystem::path& file) {
+  const auto refused = [&](const std::string& why) {
+    return InputError(file.string(), 0, "--restart", file.string(), why);
+  };
+  if (saved.empty())
+    throw refused(
+        "was not written by a centrifuge run (`pilempm centrifuge run`): it holds no "
+        "centrifuge record (the pile recorded so far)");
+  if (phases_done < 1 || phases_done >= mpm_case.phases.size())
+    throw refused(
+        fmt::format("holds the state after {} phase(s), and the case has {}: nothing "
+                    "left to run",
+                    phases_done, mpm_case.phases.size()));
+  CentrifugeRecord record;
+  std::istringstream in(saved);
+  std::string checks;
+  std::getline(in, checks);
+  record.checks = tab_separated_numbers(checks, "checks");
+  bool readable = record.checks.size() == 7;
+  for (std::string name; readable && in >> name;) {
+    std::size_t size = 0;
+    in >> size;
+    in.ignore();
+    std::string part(size, '\0');
+    in.read(part.data(), static_cast<std::streamsize>(size));
+    readable = static_cast<std::size_t>(in.gcount()) == size;
+    record.parts[name] = std::move(part);
+  }
+  if (!readable || record.parts.size() != 3 || record.parts.count("case") == 0)
+    throw refused("its centrifuge record cannot be read");
+  if (record.checks[0] != 1.0)
+    throw refused(fmt::format(
+        "holds the last converged state of a phase that failed (\"{}\"), in its middle: a "
+        "centrifuge run continues from the end of a phase (checkpoint_NN_<phase>.h5)",
+        mpm_case.phases.at(phases_done).name));
+  const std::string mine = case_before(mpm_case, phases_done);
+  if (record.parts["case"] != mine)
+    throw refused(fmt::format(
+        "was written by a run whose MPM case up to its phase {} (\"{}\") differs from this "
+        "case's: {} (a restart continues the same case; only the phases after the "
+        "checkpoint may differ)",
+        phases_done, mpm_case.phases.at(phases_done - 1).name,
+        first_difference(record.parts["case"], mine)));
+  return record;
+}
+
 // What a centrifuge run keeps in each checkpoint besides the MPM state, so that a run restarted
 // from it (CentrifugeRunOptions::restart) writes what the whole run would have: the MPM case of
 // the phases done (a restart must continue the same case), the pile's rows, the checks so far
@@ -219,14 +304,14 @@ class CentrifugeRunState final : public CheckpointedState {
                      CentrifugeSummary& summary)
       : case_(mpm_case), recorder_(recorder), fields_(fields), summary_(summary) {}
 
-  std::string record_name() const override { return "centrifuge run"; }
+  std::string record_name() const override { return kCentrifugeRecord; }
 
   std::string save(std::size_t phases_done, bool at_phase_end) const override {
     std::string text = fmt::format(
         "checks\t{}\t{:.17g}\t{:.17g}\t{}\t{}\t{:.17g}\t{:.17g}\n", at_phase_end ? 1 : 0,
         summary_.initial_stress_error, summary_.initial_stress_ratio, summary_.particles,
         summary_.particles_in_pile, summary_.max_penetration_cells, summary_.min_radius_mm);
-    const std::string done = case_before(phases_done);
+    const std::string done = case_before(case_, phases_done);
     const std::string pile = recorder_.saved();
     const std::string fields = fields_.saved();
     for (const auto& [name, part] :
@@ -237,74 +322,21 @@ class CentrifugeRunState final : public CheckpointedState {
 
   void restore(const std::string& saved, std::size_t phases_done,
                const std::filesystem::path& file) override {
-    const auto refused = [&](const std::string& why) {
-      return InputError(file.string(), 0, "--restart", file.string(), why);
-    };
-    if (saved.empty())
-      throw refused(
-          "was not written by a centrifuge run (`pilempm centrifuge run`): it holds no "
-          "centrifuge record (the pile recorded so far)");
-    std::istringstream in(saved);
-    std::string checks;
-    std::getline(in, checks);
-    const std::vector<double> numbers = tab_separated_numbers(checks, "checks");
-    bool readable = numbers.size() == 7;
-    std::map<std::string, std::string> parts;
-    for (std::string name; readable && in >> name;) {
-      std::size_t size = 0;
-      in >> size;
-      in.ignore();
-      std::string part(size, '\0');
-      in.read(part.data(), static_cast<std::streamsize>(size));
-      readable = static_cast<std::size_t>(in.gcount()) == size;
-      parts[name] = std::move(part);
-    }
-    if (!readable || parts.size() != 3) throw refused("its centrifuge record cannot be read");
-    if (numbers[0] != 1.0)
-      throw refused(fmt::format(
-          "holds the last converged state of a phase that failed (\"{}\"), in its middle: a "
-          "centrifuge run continues from the end of a phase (checkpoint_NN_<phase>.h5)",
-          case_.phases.at(phases_done).name));
+    CentrifugeRecord record = checked_centrifuge_record(case_, saved, phases_done, file);
+    const std::vector<double>& numbers = record.checks;
     summary_.initial_stress_error = numbers[1];
     summary_.initial_stress_ratio = numbers[2];
     summary_.particles = static_cast<std::size_t>(numbers[3]);
     summary_.particles_in_pile = static_cast<std::size_t>(numbers[4]);
     summary_.max_penetration_cells = numbers[5];
     summary_.min_radius_mm = numbers[6];
-    const std::string mine = case_before(phases_done);
-    if (parts["case"] != mine)
-      throw refused(fmt::format(
-          "was written by a run whose MPM case up to its phase {} (\"{}\") differs from this "
-          "case's: {} (a restart continues the same case; only the phases after the "
-          "checkpoint may differ)",
-          phases_done, case_.phases.at(phases_done - 1).name,
-          first_difference(parts["case"], mine)));
-    recorder_.restore(parts["pile"]);
+    recorder_.restore(record.parts["pile"]);
     // The run folder that wrote the checkpoint: DIR/mpm/checkpoint_*.h5.
-    fields_.restore(parts["fields"], std::filesystem::absolute(file).parent_path().parent_path());
+    fields_.restore(record.parts["fields"],
+                    std::filesystem::absolute(file).parent_path().parent_path());
   }
 
  private:
-  // The MPM case's text with its phases before `phases` only and no title.
-  std::string case_before(std::size_t phases) const {
-    MpmCase c = case_;
-    c.title.clear();
-    c.phases.resize(std::min(phases, c.phases.size()));
-    return mpm_case_text(c);
-  }
-  static std::string first_difference(const std::string& a, const std::string& b) {
-    std::istringstream x(a), y(b);
-    std::string l, m;
-    for (int line = 1;; ++line) {
-      const bool more_x = static_cast<bool>(std::getline(x, l));
-      const bool more_y = static_cast<bool>(std::getline(y, m));
-      if (!more_x && !more_y) return "no line differs";
-      if (!more_x || !more_y || l != m)
-        return fmt::format("line {} of its MPM case is \"{}\", of this one \"{}\"", line,
-                           more_x ? l : "(none)", more_y ? m : "(none)");
-    }
-  }
-
   const MpmCase& case_;
   PileRecorder& recorder_;
   FieldWriter& fields_;
@@ -513,6 +545,15 @@ FigureSpec centrifuge_field_figure(const CentrifugeScenario& s, const std::strin
     f.panels.push_back(panel);
   }
   return f;
+}
+
+void check_centrifuge_restart(const CentrifugeScenario& s,
+                              const std::filesystem::path& checkpoint) {
+  const MpmCheckpointInfo info = read_mpm_checkpoint_info(checkpoint);
+  const auto record = info.records.find(kCentrifugeRecord);
+  (void)checked_centrifuge_record(centrifuge_case(s, ""),
+                                  record == info.records.end() ? std::string() : record->second,
+                                  static_cast<std::size_t>(info.next_phase), checkpoint);
 }
 
 std::filesystem::path centrifuge_installation_checkpoint(const CentrifugeScenario& s) {

@@ -38,6 +38,12 @@ scenario::CentrifugeSummary run_centrifuge(const scenario::CentrifugeScenario& s
                                            std::ostream* progress,
                                            const CentrifugeRunOptions& options = {});
 
+/// Checks, before anything is written, that `checkpoint` can continue the scenario
+/// (CentrifugeRunOptions::restart): a readable checkpoint of a centrifuge run, taken at a phase
+/// end, of the same MPM case up to there. Throws InputError naming the checkpoint.
+void check_centrifuge_restart(const scenario::CentrifugeScenario& s,
+                              const std::filesystem::path& checkpoint);
+
 /// The checkpoint at the end of the scenario's installation, relative to its run folder
 /// ("mpm/checkpoint_02_installation.h5"); empty when it has no installation.
 std::filesystem::path centrifuge_installation_checkpoint(const scenario::CentrifugeScenario& s);

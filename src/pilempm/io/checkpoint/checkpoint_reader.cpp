@@ -207,7 +207,8 @@ class Reader {
 };
 
 // The header's counts against the solver's: the checkpoint must come from the same case.
-void check_header(const Reader& r, hid_t root, const mpm::MpmState& solver) {
+// The file is a pilempm checkpoint of the version this build reads.
+void check_format(const Reader& r, hid_t root) {
   const std::string format = r.string(root, "", "format");
   if (format != kFormat)
     r.fail("format", format, fmt::format("must be \"{}\" (not a pilempm checkpoint)", kFormat));
@@ -215,6 +216,10 @@ void check_header(const Reader& r, hid_t root, const mpm::MpmState& solver) {
   if (version != kMpmCheckpointFormatVersion)
     r.fail("format_version", std::to_string(version),
            fmt::format("this pilempm reads version {}", kMpmCheckpointFormatVersion));
+}
+
+void check_header(const Reader& r, hid_t root, const mpm::MpmState& solver) {
+  check_format(r, root);
   const std::string geometry = r.string(root, "", "geometry");
   const char* expected_geometry = geometry_name(solver.geometry());
   if (geometry != expected_geometry)
@@ -412,6 +417,19 @@ MpmCheckpointInfo read_run_info(const Reader& r, hid_t root, std::size_t particl
 }
 
 }  // namespace
+
+MpmCheckpointInfo read_mpm_checkpoint_info(const fs::path& file) {
+  const QuietHdf5Errors quiet;
+  const Reader reader(file.string());
+  const Handle handle = reader.open_file();
+  const Handle root(H5Gopen2(handle.get(), "/", H5P_DEFAULT), H5Gclose);
+  if (!root.valid()) reader.fail_hdf5("/", "cannot open the root group");
+  check_format(reader, root.get());
+  // The initial positions' count is checked against the particles by read_mpm_checkpoint.
+  const Handle run = reader.group(root.get(), "run");
+  const hsize_t initial = reader.length(run.get(), "/run", "initial_position");
+  return read_run_info(reader, root.get(), initial);
+}
 
 MpmCheckpointInfo read_mpm_checkpoint(const fs::path& file, mpm::MpmState& solver) {
   const QuietHdf5Errors quiet;
