@@ -36,7 +36,7 @@ fi
 built=$(date +%s)
 # Whole centrifuge runs and studies, the calibration fits and study, and the MPM verification
 # cases with thousands of steps (each 10 s to minutes under the sanitizers).
-HEAVY='CentrifugeRun|CentrifugeCli|CentrifugeStudy|CentrifugeTimeStep|CalibrationStudy|QuickStudy|StudyCli|CalibrateCli|CalibrationRecovery|CalibrationStability|MpmCli|Restart|ColumnCollapse|StripFooting|LameCylinder|BarVibration|ColumnSelfWeight|AbsorbingBoundary|Threads|QuasiStaticPrandtl'
+HEAVY='CentrifugeRun|CentrifugeCli|CentrifugeStudy|CentrifugeTimeStep|CalibrationStudy|QuickStudy|StudyCli|StudyContinuedCli|CalibrateCli|CalibrationRecovery|CalibrationStability|MpmCli|Restart|ColumnCollapse|StripFooting|LameCylinder|BarVibration|ColumnSelfWeight|AbsorbingBoundary|Threads|QuasiStaticPrandtl'
 status=0
 if [ $full -eq 1 ]; then
   ctest --preset sanitize -j "$jobs" || status=$?
