@@ -207,6 +207,12 @@ std::vector<std::string> case_files(const std::vector<const CentrifugeStudyGroup
   return files;
 }
 
+// Whether --resume keeps the run of `file`: it finished before (its summary.csv exists).
+bool kept_by_resume(const CentrifugeStudyOptions& options, const std::filesystem::path& out_dir,
+                    const std::string& file) {
+  return options.resume && std::filesystem::exists(out_dir / stem(file) / "summary.csv");
+}
+
 // The case whose installation `file` continues (CentrifugeStudyCase::continues), "" if none.
 std::string continued_case(const std::string& file) {
   for (const CentrifugeStudyGroup& g : centrifuge_study_groups())
@@ -223,6 +229,15 @@ std::filesystem::path continued_checkpoint(const std::filesystem::path& out_dir,
   if (from.empty()) return {};
   const std::filesystem::path checkpoint = centrifuge_installation_checkpoint(s);
   return checkpoint.empty() ? checkpoint : out_dir / stem(from) / checkpoint;
+}
+
+// continued_checkpoint where that run has written it, else "" (the run starts from the start).
+std::filesystem::path written_continued_checkpoint(const std::filesystem::path& out_dir,
+                                                   const std::string& file,
+                                                   const CentrifugeScenario& s) {
+  std::filesystem::path checkpoint = continued_checkpoint(out_dir, file, s);
+  if (!checkpoint.empty() && !std::filesystem::exists(checkpoint)) checkpoint.clear();
+  return checkpoint;
 }
 
 // Every case file read and checked (InputError naming the file), with its text.
@@ -318,9 +333,8 @@ std::vector<CentrifugeStudyFailure> run_as_children(
     const std::vector<std::size_t>& to_run, std::ostream* progress) {
   std::vector<ChildRun> runs;
   for (const std::size_t k : to_run) {
-    std::filesystem::path restart = continued_checkpoint(out_dir, files[k], scenarios[k].first);
-    if (!restart.empty() && !std::filesystem::exists(restart)) restart.clear();
-    runs.push_back(child_run(options, out_dir, files[k], false, restart));
+    runs.push_back(child_run(options, out_dir, files[k], false,
+                             written_continued_checkpoint(out_dir, files[k], scenarios[k].first)));
   }
   if (runs.empty()) return {};
   prepare_output_directory(out_dir / "logs");
@@ -438,7 +452,7 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
 
   std::vector<std::size_t> to_run;  // report only: run nothing
   for (std::size_t k = 0; k < (options.report_only ? 0 : files.size()); ++k) {
-    if (options.resume && std::filesystem::exists(out_dir / stem(files[k]) / "summary.csv")) {
+    if (kept_by_resume(options, out_dir, files[k])) {
       if (progress != nullptr)
         *progress << fmt::format("study: {} done before, kept ({}/{})\n", files[k], k + 1,
                                  files.size());
@@ -469,8 +483,8 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
   } else {
     for (const std::size_t k : to_run) {
       const std::filesystem::path dir = out_dir / stem(files[k]);
-      std::filesystem::path restart = continued_checkpoint(out_dir, files[k], scenarios[k].first);
-      if (!restart.empty() && !std::filesystem::exists(restart)) restart.clear();
+      const std::filesystem::path restart =
+          written_continued_checkpoint(out_dir, files[k], scenarios[k].first);
       if (progress != nullptr)
         *progress << fmt::format("study: running {} ({}/{}){}\n", files[k], k + 1, files.size(),
                                  restart.empty()
@@ -582,7 +596,7 @@ std::size_t write_centrifuge_study_commands(const CentrifugeStudyOptions& option
   check_program(options);
   prepare_output_directory(out_dir / "logs");
   const auto kept = [&](const std::string& case_file) {
-    return options.resume && std::filesystem::exists(out_dir / stem(case_file) / "summary.csv");
+    return kept_by_resume(options, out_dir, case_file);
   };
   // One line per run. A run that continues another's installation follows that one on its
   // line when it is in the list, from its checkpoint where that run wrote one (whether or not
