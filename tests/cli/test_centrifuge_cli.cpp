@@ -168,9 +168,9 @@ bool inside_pile(double r_mm, double depth_mm, double tip_depth_mm, double margi
          depth_mm < tip_depth_mm - r_mm / std::tan(half_apex) - margin_mm / std::sin(half_apex);
 }
 
-// The quick case (R = 6 D, H = 12 D, D = 11.3 mm at 40 g, wished in place at 3 D, jacked 2 D,
-// relaxed, load-tested over 0.1 D): one run, checked through its files. A few minutes on two
-// cores, hence Long.
+// The quick case (R = 6 D, H = 12 D, D = 11.3 mm at 40 g, wished in place at 3 D, jacked 2 D in
+// quasi-static load steps, relaxed, load-tested over 0.1 D): one run, checked through its files.
+// About 45 s on two cores, hence Long.
 TEST(CentrifugeCli, LongQuickCaseRunWritesConsistentPileForcesFieldsAndSummary) {
   const TestDir dir("centrifuge-cli");
   const fs::path out = dir.path() / "run";
@@ -284,10 +284,11 @@ TEST(CentrifugeCli, LongQuickCaseRunWritesConsistentPileForcesFieldsAndSummary) 
   EXPECT_EQ(read_csv(out / "fields_load-test.csv").rows.size(),
             static_cast<std::size_t>(particles));
 
-  // No particle inside the pile at the end of installation (tip 5 D deep). Contact acts at the
-  // grid nodes, so particle centres next to the surface may lie a little inside it; half a cell
-  // (a particle's width with 2 per cell) allows that, and a particle left in the pile's path
-  // (up to R = 2 cells inside) is still caught.
+  // No particle inside the pile at the end of installation (tip 5 D deep). The quick case runs
+  // on the quasi-static analysis, whose contact acts at points of the particles' domains (on the
+  // explicit one, at the grid nodes), so particle centres next to the surface may lie a little
+  // inside it; half a cell (a particle's width with 2 per cell) allows that, and a particle left
+  // in the pile's path (up to R = 2 cells inside) is still caught.
   const double cell = D / 4.0;
   std::size_t inside = 0, near_surface = 0;
   for (std::size_t k = 0; k < fields.rows.size(); ++k) {

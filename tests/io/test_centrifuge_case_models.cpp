@@ -230,6 +230,31 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheContactSmoothing) {
                  "contact_smoothing", "solver.contact_smoothing", "quasi-static");
 }
 
+// Newton's force tolerance: 1e-4 by default in a centrifuge case (not the library's 1e-6), the
+// energy tolerance 100 f² with it, both in the MPM case written and read back; refused out of
+// range and in an explicit case.
+TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
+  const CentrifugeScenario plain =
+      read_centrifuge_case_text(quasi_static(kMohrCoulomb), "case.toml");
+  const simulation::MpmCase by_default = centrifuge_to_mpm_case(plain, "m.toml");
+  EXPECT_EQ(by_default.quasi_static.force_tolerance, 1e-4);
+  EXPECT_EQ(by_default.quasi_static.energy_tolerance, 1e-6);
+  EXPECT_NE(by_default.quasi_static.force_tolerance, mpm::quasi_static::Settings{}.force_tolerance);
+  const simulation::MpmCase back =
+      read_mpm_case_text(centrifuge_mpm_case_text(by_default), "mpm_case.toml");
+  EXPECT_EQ(back.quasi_static.force_tolerance, 1e-4);
+  EXPECT_EQ(back.quasi_static.energy_tolerance, by_default.quasi_static.energy_tolerance);
+  const CentrifugeScenario tight = read_centrifuge_case_text(
+      quasi_static(kMohrCoulomb, "force_tolerance = 1e-6\n"), "case.toml");
+  const simulation::MpmCase tight_case = centrifuge_to_mpm_case(tight, "m.toml");
+  EXPECT_EQ(tight_case.quasi_static.force_tolerance, 1e-6);
+  EXPECT_EQ(tight_case.quasi_static.energy_tolerance, 1e-10);
+  expect_refused(quasi_static(kMohrCoulomb, "force_tolerance = 0.01\n"), "force_tolerance",
+                 "solver.force_tolerance", "0.001");
+  expect_refused(kMohrCoulomb + std::string("[solver]\nforce_tolerance = 1e-5\n"),
+                 "force_tolerance", "solver.force_tolerance", "quasi-static");
+}
+
 // The low-stress stabilisation: η = 3 as a last resort by default (low_stress_use),
 // taken into the MPM case (and the case written from it) when set, refused out of range and in
 // an explicit case.

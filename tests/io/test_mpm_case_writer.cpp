@@ -120,6 +120,7 @@ void expect_same_case(const MpmCase& typed, const MpmCase& read) {
   EXPECT_EQ(typed.displacement_step, read.displacement_step);
   const mpm::quasi_static::Settings &q = typed.quasi_static, &u = read.quasi_static;
   EXPECT_EQ(q.force_tolerance, u.force_tolerance);
+  EXPECT_EQ(q.energy_tolerance, u.energy_tolerance);
   EXPECT_EQ(q.max_iterations, u.max_iterations);
   EXPECT_EQ(q.max_cuts, u.max_cuts);
   EXPECT_EQ(q.accept_tolerance, u.accept_tolerance);

@@ -21,6 +21,7 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/mpm_case.hpp"
+#include "pilempm/io/mpm_case_writer.hpp"
 #include "pilempm/io/mpm_output.hpp"
 #include "pilempm/simulation/case_assembly.hpp"
 #include "pilempm/simulation/quasi_static_scheme.hpp"
@@ -339,6 +340,42 @@ TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
     EXPECT_NE(std::string(e.what()).find("velocity"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("explicit"), std::string::npos) << e.what();
   }
+}
+
+// Newton's two tolerances: the energy norm falls as the square of the residual, so without its
+// own key the energy tolerance follows the force tolerance (100 f², the defaults' pair 1e-6,
+// 1e-10); given, it is kept; the written case reads back with both.
+TEST(QuasiStaticMpmCase, EnergyToleranceFollowsTheForceToleranceUnlessGiven) {
+  const auto settings = [](const std::string& keys) {
+    return read_mpm_case_text(replaced(column_case(), "threads = 1", "threads = 1\n" + keys),
+                              "case.toml")
+        .quasi_static;
+  };
+  const mpm::quasi_static::Settings plain = settings("");
+  EXPECT_EQ(plain.force_tolerance, 1e-6);
+  EXPECT_EQ(plain.energy_tolerance, 1e-10);
+  const mpm::quasi_static::Settings loose = settings("force_tolerance = 1e-4");
+  EXPECT_EQ(loose.force_tolerance, 1e-4);
+  EXPECT_EQ(loose.energy_tolerance, 1e-6);
+  const mpm::quasi_static::Settings both =
+      settings("force_tolerance = 1e-4\nenergy_tolerance = 1e-12");
+  EXPECT_EQ(both.energy_tolerance, 1e-12);
+  const MpmCase written = read_mpm_case_text(
+      mpm_case_text(read_mpm_case_text(
+          replaced(column_case(), "threads = 1", "threads = 1\nforce_tolerance = 1e-5"),
+          "case.toml")),
+      "written.toml");
+  EXPECT_EQ(written.quasi_static.force_tolerance, 1e-5);
+  EXPECT_EQ(written.quasi_static.energy_tolerance, 1e-8);
+
+  std::string message =
+      read_error(replaced(column_case(), "threads = 1", "threads = 1\nenergy_tolerance = 0.5"));
+  EXPECT_NE(message.find("solver.energy_tolerance"), std::string::npos) << message;
+  EXPECT_NE(message.find("0.1"), std::string::npos) << message;
+  message =
+      read_error(replaced(column_case(), "analysis = \"quasi-static\"", "energy_tolerance = 1e-8"));
+  EXPECT_NE(message.find("solver.energy_tolerance"), std::string::npos) << message;
+  EXPECT_NE(message.find("quasi-static"), std::string::npos) << message;
 }
 
 }  // namespace

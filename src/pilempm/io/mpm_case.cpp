@@ -81,14 +81,21 @@ MpmGridAxis read_axis(TableReader& grid, std::string_view key, std::vector<doubl
 const std::vector<std::string> kExplicitOnlyKeys = {
     "scheme",       "flip_fraction",  "xpic_order",        "local_damping",
     "mass_scaling", "courant_number", "fixed_time_step_s", "contact"};
-const std::vector<std::string> kQuasiStaticOnlyKeys = {
-    "displacement_step_m",     "force_tolerance",
-    "max_iterations",          "max_cuts",
-    "accept_tolerance",        "accept_after_iterations",
-    "linear_solver",           "contact_penalty_factor",
-    "newton_step_limit_cells", "contact_vertex_radius_cells",
-    "contact_smoothing",       "low_stress_stiffness",
-    "low_stress_use",          "low_stress_pressure_Pa"};
+const std::vector<std::string> kQuasiStaticOnlyKeys = {"displacement_step_m",
+                                                       "force_tolerance",
+                                                       "energy_tolerance",
+                                                       "max_iterations",
+                                                       "max_cuts",
+                                                       "accept_tolerance",
+                                                       "accept_after_iterations",
+                                                       "linear_solver",
+                                                       "contact_penalty_factor",
+                                                       "newton_step_limit_cells",
+                                                       "contact_vertex_radius_cells",
+                                                       "contact_smoothing",
+                                                       "low_stress_stiffness",
+                                                       "low_stress_use",
+                                                       "low_stress_pressure_Pa"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -129,6 +136,12 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   c.displacement_step = solver->number_or("displacement_step_m", 0.0, NumberRange::positive());
   q.force_tolerance =
       solver->number_or("force_tolerance", q.force_tolerance, NumberRange::closed(1e-12, 1e-1));
+  // The energy norm falls about as the square of the residual's: by default the pair of the
+  // library's defaults (1e-6, 1e-10) carried to a force tolerance given.
+  if (solver->contains("force_tolerance"))
+    q.energy_tolerance = mpm::quasi_static::energy_tolerance_for(q.force_tolerance);
+  q.energy_tolerance =
+      solver->number_or("energy_tolerance", q.energy_tolerance, NumberRange::closed(1e-24, 1e-1));
   q.max_iterations = solver->integer_or("max_iterations", q.max_iterations, 1, 1000);
   q.max_cuts = solver->integer_or("max_cuts", q.max_cuts, 0, 30);
   q.accept_tolerance =

@@ -231,6 +231,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
   const mpm::quasi_static::Settings& q = c.quasi_static;
   if (c.displacement_step > 0.0) t.number("displacement_step_m", c.displacement_step);
   t.number("force_tolerance", q.force_tolerance);
+  t.number("energy_tolerance", q.energy_tolerance);
   t.integer("max_iterations", q.max_iterations);
   t.integer("max_cuts", q.max_cuts);
   t.number("accept_tolerance", q.accept_tolerance);

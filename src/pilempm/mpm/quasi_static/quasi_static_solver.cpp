@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 
 #include "pilempm/core/error.hpp"
@@ -204,6 +205,11 @@ void QuasiStaticSolver::set_material(int index, ModelPtr model) {
     throw InvalidValue("material index", std::to_string(index),
                        fmt::format("[0, {}) and a model", materials_.size()));
   materials_[std::size_t(index)] = std::move(model);
+}
+
+double energy_tolerance_for(double force_tolerance) {
+  return std::strtod(fmt::format("{:.9g}", 100.0 * force_tolerance * force_tolerance).c_str(),
+                     nullptr);
 }
 
 QuasiStaticSolver::Targets QuasiStaticSolver::targets(double fraction, const LoadStep& load) const {

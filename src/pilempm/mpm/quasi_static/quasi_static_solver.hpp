@@ -68,6 +68,12 @@ inline ContactSettings rounded_contact() {
   return contact;
 }
 
+/// The energy tolerance that goes with a force tolerance: 100 f², the ratio of the defaults
+/// (1e-6, 1e-10), to 9 significant digits (1e-4 gives 1e-6, not 1.0000000000000002e-06). The
+/// energy norm δu·R ≈ Rᵀ K⁻¹ R falls as the square of ||R||, so a force tolerance relaxed
+/// without it would leave the energy norm to decide (docs/quasi-static.md, "Convergence").
+double energy_tolerance_for(double force_tolerance);
+
 struct Settings {
   Geometry geometry = Geometry::plane_strain;
   ShapeFunction shape_function = ShapeFunction::cpgimp;
@@ -75,7 +81,8 @@ struct Settings {
   /// Converged when ||R|| <= force_tolerance * F_ref, F_ref the largest of the norms of the
   /// internal, external and contact nodal forces (all active components, so reactions count) ...
   double force_tolerance = 1.0e-6;
-  /// ... and |δu_k · R_(k-1)| <= energy_tolerance * |δu_1 · R_0| (the energy norm).
+  /// ... and |δu_k · R_(k-1)| <= energy_tolerance * |δu_1 · R_0| (the energy norm; it falls
+  /// about as the square of ||R||, hence energy_tolerance_for(force_tolerance)).
   double energy_tolerance = 1.0e-10;
   int max_iterations = 25;
   /// A sub-increment still above force_tolerance after max_iterations is accepted, not cut,

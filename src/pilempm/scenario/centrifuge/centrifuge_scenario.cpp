@@ -243,6 +243,8 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
     // The contact's normal force smoothed over a fraction of the particle size: without it the
     // quick case's installation stopped at 1.6 D (docs/centrifuge.md, "The quasi-static analysis").
     c.quasi_static.contact.smoothing = v(s.contact_smoothing);
+    c.quasi_static.force_tolerance = v(s.force_tolerance);
+    c.quasi_static.energy_tolerance = mpm::quasi_static::energy_tolerance_for(s.force_tolerance);
     c.quasi_static.low_stress_stiffness = v(s.low_stress_stiffness);
     c.quasi_static.low_stress_pressure = v(s.low_stress_pressure_Pa);
     c.quasi_static.low_stress_use = s.low_stress_use;
