@@ -11,6 +11,7 @@
 #include <set>
 #include <sstream>
 
+#include "pilempm/core/number_text.hpp"
 #include "pilempm/io/element_case.hpp"
 #include "pilempm/io/material_reader.hpp"
 
@@ -262,11 +263,11 @@ void read_measured_curve(const fs::path& file, LabTest& test, std::vector<std::s
           fmt::format("wrong number of cells: {} for {} columns", cells.size(), header.size()));
     for (std::size_t k = 0; k < needed.size(); ++k) {
       const std::string& cell = cells[index[k]];
-      char* end = nullptr;
-      const double v = std::strtod(cell.c_str(), &end);
-      if (cell.empty() || end != cell.c_str() + cell.size())
+      const std::optional<double> number_read = whole_number(cell);
+      if (!number_read)
         throw InputError(name, number, fmt::format("column \"{}\"", needed[k]), cell,
                          "not a number");
+      const double v = *number_read;
       if (!std::isfinite(v))
         throw InputError(name, number, fmt::format("column \"{}\"", needed[k]), cell,
                          "not a finite number (NaN or infinity): remove the row or fill it in");

@@ -18,6 +18,7 @@
 
 #include "pilempm/constitutive/material_state.hpp"
 #include "pilempm/core/error.hpp"
+#include "pilempm/core/number_text.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
 #include "pilempm/io/mpm_case_writer.hpp"
@@ -53,10 +54,9 @@ std::vector<double> tab_separated_numbers(const std::string& line, const std::st
   bool first = true;
   for (std::string field; std::getline(fields, field, '\t'); first = false) {
     if (first && field == tag) continue;
-    char* end = nullptr;
-    const double value = std::strtod(field.c_str(), &end);
-    if (end == field.c_str() || *end != '\0') return {};
-    numbers.push_back(value);
+    const std::optional<double> value = whole_number(field);
+    if (!value) return {};
+    numbers.push_back(*value);
   }
   return numbers;
 }

@@ -4,11 +4,11 @@
 #include <fmt/ranges.h>
 
 #include <algorithm>
-#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
 #include "pilempm/core/error.hpp"
+#include "pilempm/core/number_text.hpp"
 
 namespace pilempm {
 
@@ -77,12 +77,11 @@ NumericTable parse_numeric_csv(std::string_view text, const std::string& source)
     row.clear();
     for (std::size_t i = 0; i < cells.size(); ++i) {
       const std::string& cell = cells[i];
-      char* stop = nullptr;
-      const double value = std::strtod(cell.c_str(), &stop);
-      if (cell.empty() || stop != cell.c_str() + cell.size())
+      const std::optional<double> value = whole_number(cell);
+      if (!value)
         throw Error(fmt::format("{}:{}: column {}: \"{}\" is not a number", source, line_number,
                                 table.columns()[i], cell));
-      row.push_back(value);
+      row.push_back(*value);
     }
     table.add_row(row);
   }

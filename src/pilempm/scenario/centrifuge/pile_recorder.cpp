@@ -4,10 +4,11 @@
 #include <fmt/format.h>
 
 #include <cmath>
-#include <cstdlib>
+#include <optional>
 #include <sstream>
 
 #include "pilempm/core/error.hpp"
+#include "pilempm/core/number_text.hpp"
 
 namespace pilempm::scenario {
 
@@ -63,7 +64,7 @@ void PileRecorder::restore(const std::string& saved) {
   std::istringstream lines(saved);
   std::string line;
   while (std::getline(lines, line)) {
-    // phase, role, then the numbers, separated by tabs (strtod reads "nan" and "inf" too).
+    // phase, role, then the numbers, separated by tabs ("nan" and "inf" read as numbers too).
     std::vector<std::string> fields;
     std::istringstream parts(line);
     for (std::string field; std::getline(parts, field, '\t');) fields.push_back(field);
@@ -71,13 +72,13 @@ void PileRecorder::restore(const std::string& saved) {
     std::vector<double*> numbers = row_numbers(row);
     bool ok = fields.size() == numbers.size() + 2 && !fields[0].empty();
     for (std::size_t k = 1; ok && k < fields.size(); ++k) {
-      char* end = nullptr;
-      const double value = std::strtod(fields[k].c_str(), &end);
-      ok = end != fields[k].c_str() && *end == '\0';
+      const std::optional<double> value = whole_number(fields[k]);
+      ok = value.has_value();
+      if (!ok) break;
       if (k == 1)
-        row.role = static_cast<MpmPhaseRole>(static_cast<int>(value));
+        row.role = static_cast<MpmPhaseRole>(static_cast<int>(*value));
       else
-        *numbers[k - 2] = value;
+        *numbers[k - 2] = *value;
     }
     if (!ok)
       throw Error(fmt::format("the pile's rows of a checkpoint: line {} cannot be read: {}",
