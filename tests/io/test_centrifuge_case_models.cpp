@@ -244,6 +244,10 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
       read_mpm_case_text(centrifuge_mpm_case_text(by_default), "mpm_case.toml");
   EXPECT_EQ(back.quasi_static.force_tolerance, 1e-4);
   EXPECT_EQ(back.quasi_static.energy_tolerance, by_default.quasi_static.energy_tolerance);
+  // The stall rule is on in a centrifuge case (off in the library).
+  EXPECT_EQ(by_default.quasi_static.stall_iterations, 5);
+  EXPECT_EQ(back.quasi_static.stall_iterations, 5);
+  EXPECT_EQ(mpm::quasi_static::Settings{}.stall_iterations, 0);
   const CentrifugeScenario tight = read_centrifuge_case_text(
       quasi_static(kMohrCoulomb, "force_tolerance = 1e-6\n"), "case.toml");
   const simulation::MpmCase tight_case = centrifuge_to_mpm_case(tight, "m.toml");

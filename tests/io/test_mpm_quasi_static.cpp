@@ -344,8 +344,9 @@ TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
 
 // Newton's two tolerances: the energy norm falls as the square of the residual, so without its
 // own key the energy tolerance follows the force tolerance (100 f², the defaults' pair 1e-6,
-// 1e-10); given, it is kept; the written case reads back with both.
-TEST(QuasiStaticMpmCase, EnergyToleranceFollowsTheForceToleranceUnlessGiven) {
+// 1e-10); given, it is kept; the written case reads back with both. The stall rule: off unless
+// given.
+TEST(QuasiStaticMpmCase, NewtonsTolerancesAndStallRuleAreKeys) {
   const auto settings = [](const std::string& keys) {
     return read_mpm_case_text(replaced(column_case(), "threads = 1", "threads = 1\n" + keys),
                               "case.toml")
@@ -368,7 +369,12 @@ TEST(QuasiStaticMpmCase, EnergyToleranceFollowsTheForceToleranceUnlessGiven) {
   EXPECT_EQ(written.quasi_static.force_tolerance, 1e-5);
   EXPECT_EQ(written.quasi_static.energy_tolerance, 1e-8);
 
+  EXPECT_EQ(plain.stall_iterations, 0);
+  EXPECT_EQ(settings("stall_iterations = 5").stall_iterations, 5);
   std::string message =
+      read_error(replaced(column_case(), "threads = 1", "threads = 1\nstall_iterations = -1"));
+  EXPECT_NE(message.find("solver.stall_iterations"), std::string::npos) << message;
+  message =
       read_error(replaced(column_case(), "threads = 1", "threads = 1\nenergy_tolerance = 0.5"));
   EXPECT_NE(message.find("solver.energy_tolerance"), std::string::npos) << message;
   EXPECT_NE(message.find("0.1"), std::string::npos) << message;

@@ -425,6 +425,42 @@ TEST(QuasiStaticNewton, AcceptAfterEndsASubIncrementOnceBelowTheAcceptTolerance)
   EXPECT_NEAR(on.force, off.force, 0.02 * off.force);
 }
 
+// The stall rule (Settings::stall_iterations): a sub-increment whose last iterations bring no new
+// lowest residual is given up at once instead of iterating on to max_iterations. Here the pile
+// problem's first (geostatic) step with a force tolerance below round-off, nothing accepted and
+// no cuts: Newton's method reaches the round-off floor in a few iterations and then wanders
+// there. Without the rule the step fails after all 25 iterations; with it, as soon as the rule
+// holds, with a message that says so.
+TEST(QuasiStaticNewton, AStalledSubIncrementIsGivenUpBeforeMaxIterations) {
+  auto geostatic = [](int stall) {
+    PileProblem problem;
+    problem.model = pile_mohr_coulomb_sand();
+    problem.settings.threads = 1;
+    problem.settings.force_tolerance = 1e-300;
+    problem.settings.energy_tolerance = 1e-300;
+    problem.settings.accept_tolerance = 0.0;
+    problem.settings.max_cuts = 0;
+    problem.settings.stall_iterations = stall;
+    QuasiStaticSolver solver = problem.build();
+    LoadStep load;
+    load.gravity_multiplier = problem.gravity_multiplier;
+    return solver.solve_step(load);
+  };
+  const LoadStepResult off = geostatic(0), on = geostatic(3);
+  std::printf(
+      "geostatic step below round-off: %ld iterations without the stall rule, %ld with: %s\n",
+      long(off.iterations), long(on.iterations), on.message.c_str());
+  EXPECT_FALSE(off.converged);
+  EXPECT_FALSE(on.converged);
+  EXPECT_EQ(off.iterations, Settings{}.max_iterations);
+  EXPECT_NE(off.message.find("no convergence in 25 iterations"), std::string::npos) << off.message;
+  // Not before accept_after (8), and given up well before max_iterations.
+  EXPECT_GE(on.iterations, Settings{}.accept_after);
+  EXPECT_LT(on.iterations, Settings{}.max_iterations);
+  EXPECT_NE(on.message.find("no new lowest residual in the last 3 of"), std::string::npos)
+      << on.message;
+}
+
 // A stress update that fails names the particle, where it is and the model's reason (issue 22,
 // robustness): a hypoplastic column whose particle 5 has a void ratio below zero.
 TEST(QuasiStaticNewton, AFailedStressUpdateNamesTheParticleAndTheModelsReason) {

@@ -88,6 +88,7 @@ const std::vector<std::string> kQuasiStaticOnlyKeys = {"displacement_step_m",
                                                        "max_cuts",
                                                        "accept_tolerance",
                                                        "accept_after_iterations",
+                                                       "stall_iterations",
                                                        "linear_solver",
                                                        "contact_penalty_factor",
                                                        "newton_step_limit_cells",
@@ -147,6 +148,7 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   q.accept_tolerance =
       solver->number_or("accept_tolerance", q.accept_tolerance, NumberRange::closed(0.0, 0.1));
   q.accept_after = solver->integer_or("accept_after_iterations", q.accept_after, 0, 1000);
+  q.stall_iterations = solver->integer_or("stall_iterations", q.stall_iterations, 0, 1000);
   if (auto linear = solver->optional_choice("linear_solver", {"umfpack", "sparse-lu"})) {
     q.linear_solver = *linear == "umfpack" ? mpm::quasi_static::LinearSolverKind::umfpack
                                            : mpm::quasi_static::LinearSolverKind::sparse_lu;

@@ -236,6 +236,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.integer("max_cuts", q.max_cuts);
   t.number("accept_tolerance", q.accept_tolerance);
   t.integer("accept_after_iterations", q.accept_after);
+  t.integer("stall_iterations", q.stall_iterations);
   // This build's default when it is the default (a file that names UMFPACK needs a build with it).
   if (q.linear_solver != mpm::quasi_static::Settings{}.linear_solver)
     t.text("linear_solver", q.linear_solver == mpm::quasi_static::LinearSolverKind::umfpack

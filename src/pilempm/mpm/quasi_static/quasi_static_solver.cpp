@@ -77,6 +77,8 @@ void Settings::validate() const {
   if (!(accept_tolerance >= 0.0 && accept_tolerance < 1.0))
     throw InvalidValue("accept_tolerance", format_value(accept_tolerance), "[0, 1)");
   if (accept_after < 0) throw InvalidValue("accept_after", std::to_string(accept_after), ">= 0");
+  if (stall_iterations < 0)
+    throw InvalidValue("stall_iterations", std::to_string(stall_iterations), ">= 0");
   if (easy_iterations < 0)
     throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
   if (!(support_threshold >= 0.0 && support_threshold < 1.0))
@@ -337,6 +339,9 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
     const int max_iterations = settings_.max_iterations;
     SparseMatrix matrix = setup.pattern;
     double first_energy = 0.0;
+    // The lowest ||R|| of the iterations so far and the iteration that reached it (stall rule).
+    double lowest = std::numeric_limits<double>::infinity();
+    int lowest_at = 0;
     for (int iteration = 1; iteration <= max_iterations; ++iteration) {
       ++result.iterations;
       if (!with_matrix(trial)) {
@@ -414,6 +419,22 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       if (force_converged(trial) && energy_converged) return true;
       if (iteration_record.residual_norm > 1.0e8 * std::max(record.initial_residual, 1e-300)) {
         result.message = "the Newton iterations diverge";
+        return false;
+      }
+      if (iteration_record.residual_norm < lowest) {
+        lowest = iteration_record.residual_norm;
+        lowest_at = iteration;
+      }
+      const int stall = settings_.stall_iterations;
+      if (stall > 0 && iteration >= std::max(settings_.accept_after, stall + 1) &&
+          iteration - lowest_at >= stall &&
+          iteration_record.residual_norm >
+              settings_.accept_tolerance * std::max(trial.reference_force, 1.0e-300)) {
+        result.message = fmt::format(
+            "no convergence: ||R|| = {:.2g} F_ref, no new lowest residual in the last {} of {} "
+            "iterations",
+            iteration_record.residual_norm / std::max(trial.reference_force, 1.0e-300), stall,
+            iteration);
         return false;
       }
       if (settings_.accept_after > 0 && iteration >= settings_.accept_after &&
