@@ -35,7 +35,9 @@ e0_at = "initial-stress"
 )";
 
 // The built-in quick case (examples/centrifuge/quick.toml; the study layer embeds it, the io
-// tests cannot reach it): R = 6 D, H = 12 D, wished in place at 3 D, jacked 2 D, D/4 mesh.
+// tests cannot reach it) on the explicit analysis (the file sets the quasi-static one; the
+// geometry, particles and phases checked here are the same): R = 6 D, H = 12 D, wished in place
+// at 3 D, jacked 2 D, D/4 mesh.
 const char* const kQuick = R"(title = "quick case"
 [test]
 container_radius_D = 6.0

@@ -248,6 +248,13 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
   EXPECT_EQ(by_default.quasi_static.stall_iterations, 5);
   EXPECT_EQ(back.quasi_static.stall_iterations, 5);
   EXPECT_EQ(mpm::quasi_static::Settings{}.stall_iterations, 0);
+  const CentrifugeScenario no_stall =
+      read_centrifuge_case_text(quasi_static(kMohrCoulomb, "stall_iterations = 0\n"), "case.toml");
+  EXPECT_EQ(centrifuge_to_mpm_case(no_stall, "m.toml").quasi_static.stall_iterations, 0);
+  expect_refused(quasi_static(kMohrCoulomb, "stall_iterations = -1\n"), "stall_iterations",
+                 "solver.stall_iterations", "1000");
+  expect_refused(kMohrCoulomb + std::string("[solver]\nstall_iterations = 5\n"), "stall_iterations",
+                 "solver.stall_iterations", "quasi-static");
   const CentrifugeScenario tight = read_centrifuge_case_text(
       quasi_static(kMohrCoulomb, "force_tolerance = 1e-6\n"), "case.toml");
   const simulation::MpmCase tight_case = centrifuge_to_mpm_case(tight, "m.toml");

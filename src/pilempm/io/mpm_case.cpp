@@ -142,7 +142,7 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   if (solver->contains("force_tolerance"))
     q.energy_tolerance = mpm::quasi_static::energy_tolerance_for(q.force_tolerance);
   q.energy_tolerance =
-      solver->number_or("energy_tolerance", q.energy_tolerance, NumberRange::closed(1e-24, 1e-1));
+      solver->number_or("energy_tolerance", q.energy_tolerance, NumberRange::closed(1e-24, 1.0));
   q.max_iterations = solver->integer_or("max_iterations", q.max_iterations, 1, 1000);
   q.max_cuts = solver->integer_or("max_cuts", q.max_cuts, 0, 30);
   q.accept_tolerance =

@@ -429,7 +429,8 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
       if (stall > 0 && iteration >= std::max(settings_.accept_after, stall + 1) &&
           iteration - lowest_at >= stall &&
           iteration_record.residual_norm >
-              settings_.accept_tolerance * std::max(trial.reference_force, 1.0e-300)) {
+              std::max(settings_.accept_tolerance, settings_.force_tolerance) *
+                  std::max(trial.reference_force, 1.0e-300)) {
         result.message = fmt::format(
             "no convergence: ||R|| = {:.2g} F_ref, no new lowest residual in the last {} of {} "
             "iterations",

@@ -81,7 +81,8 @@ struct Settings {
   /// Converged when ||R|| <= force_tolerance * F_ref, F_ref the largest of the norms of the
   /// internal, external and contact nodal forces (all active components, so reactions count) ...
   double force_tolerance = 1.0e-6;
-  /// ... and |δu_k · R_(k-1)| <= energy_tolerance * |δu_1 · R_0| (the energy norm; it falls
+  /// ... and |δu_k · R_k| <= energy_tolerance * |δu_1 · R_0| (the energy norm, δu_k the step
+  /// taken, R_k the residual after it; it falls
   /// about as the square of ||R||, hence energy_tolerance_for(force_tolerance)).
   double energy_tolerance = 1.0e-10;
   int max_iterations = 25;
@@ -99,11 +100,11 @@ struct Settings {
   /// as much with round-off), docs/quasi-static.md, "Convergence".
   int accept_after = 8;
   /// From iteration max(accept_after, stall_iterations + 1) on, a sub-increment whose last
-  /// stall_iterations iterations brought no new lowest ||R|| and which is above
-  /// accept_tolerance is given up at once and cut, instead of iterating on to max_iterations
-  /// (Newton's method wandering between 10^-3 and 1 F_ref, as where the plastic and contact
-  /// states of a few points keep changing); 0: never. On the centrifuge's parametric base case
-  /// 5 would have given up 20 of its 25 failed sub-increments 240 iterations earlier and no
+  /// stall_iterations iterations brought no new lowest ||R|| and which is above both
+  /// accept_tolerance and force_tolerance is given up at once and cut, instead of iterating on to
+  /// max_iterations (Newton's method wandering between 10^-3 and 1 F_ref, as where the plastic and
+  /// contact states of a few points keep changing); 0: never. On the centrifuge's parametric base
+  /// case 5 would have given up 20 of its 25 failed sub-increments 240 iterations earlier and no
   /// sub-increment that converged (docs/quasi-static.md, "Convergence").
   int stall_iterations = 0;
   /// Backtracking on ||R|| (halving the Newton step up to this many times, 0: none).

@@ -246,7 +246,7 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
     c.quasi_static.force_tolerance = v(s.force_tolerance);
     // Give up a wandering sub-increment after 5 iterations without a new lowest residual:
     // docs/centrifuge.md, "Newton's tolerance".
-    c.quasi_static.stall_iterations = 5;
+    c.quasi_static.stall_iterations = s.stall_iterations;
     c.quasi_static.energy_tolerance = mpm::quasi_static::energy_tolerance_for(s.force_tolerance);
     c.quasi_static.low_stress_stiffness = v(s.low_stress_stiffness);
     c.quasi_static.low_stress_pressure = v(s.low_stress_pressure_Pa);
