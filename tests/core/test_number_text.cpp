@@ -26,5 +26,13 @@ TEST(WholeNumber, AnythingElseIsNoNumber) {
   EXPECT_FALSE(whole_number(std::string_view(with_zero, 3)).has_value());
 }
 
+// The number a person would write: what the case files and the energy tolerance rule use.
+TEST(WithSignificantDigits, GivesTheNumberOfItsDecimalText) {
+  EXPECT_NE(100.0 * 1e-4 * 1e-4, 1e-6);  // the product is off by an ulp ...
+  EXPECT_EQ(with_significant_digits(100.0 * 1e-4 * 1e-4, 9), 1e-6);  // ... its 9 digits are not
+  EXPECT_EQ(with_significant_digits(0.123456789123, 3), 0.123);
+  EXPECT_EQ(with_significant_digits(-2.5e-7, 17), -2.5e-7);
+}
+
 }  // namespace
 }  // namespace pilempm

@@ -14,4 +14,8 @@ namespace pilempm {
 /// (NumberRange).
 std::optional<double> whole_number(std::string_view text);
 
+/// `value` as it reads back from its decimal text with `digits` significant digits (1 to 17):
+/// the number a person would write, e.g. 1e-6 for 100 * (1e-4)^2 = 1.0000000000000002e-06.
+double with_significant_digits(double value, int digits);
+
 }  // namespace pilempm

@@ -18,6 +18,7 @@
 #include "pilempm/constitutive/hypoplastic/hypoplastic_material.hpp"
 #include "pilempm/constitutive/model_registry.hpp"
 #include "pilempm/core/error.hpp"
+#include "pilempm/core/number_text.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
 
@@ -48,7 +49,7 @@ std::string exact_decimal(double value, double guess,
                           const std::function<double(double)>& read_back) {
   if (!std::isfinite(value) || !std::isfinite(guess)) return float_text(guess);
   for (int digits = 1; digits <= 17; ++digits) {
-    const double x = std::strtod(fmt::format("{:.{}g}", guess, digits).c_str(), nullptr);
+    const double x = with_significant_digits(guess, digits);
     if (read_back(x) == value) return float_text(x);
   }
   double up = guess, down = guess;

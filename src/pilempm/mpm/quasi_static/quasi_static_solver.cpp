@@ -7,10 +7,10 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 
 #include "pilempm/core/error.hpp"
+#include "pilempm/core/number_text.hpp"
 #include "pilempm/mpm/quasi_static/step_data.hpp"
 
 namespace pilempm::mpm::quasi_static {
@@ -210,8 +210,7 @@ void QuasiStaticSolver::set_material(int index, ModelPtr model) {
 }
 
 double energy_tolerance_for(double force_tolerance) {
-  return std::strtod(fmt::format("{:.9g}", 100.0 * force_tolerance * force_tolerance).c_str(),
-                     nullptr);
+  return with_significant_digits(100.0 * force_tolerance * force_tolerance, 9);
 }
 
 QuasiStaticSolver::Targets QuasiStaticSolver::targets(double fraction, const LoadStep& load) const {

@@ -12,6 +12,7 @@
 #include "pilempm/constitutive/model_registry.hpp"
 #include "pilempm/constitutive/mohr_coulomb/mohr_coulomb.hpp"
 #include "pilempm/core/error.hpp"
+#include "pilempm/core/number_text.hpp"
 #include "pilempm/core/tensor.hpp"
 #include "pilempm/mpm/grid.hpp"
 
@@ -195,7 +196,7 @@ namespace {
 // A value rounded to 9 significant digits: the case's numbers are those a person would write in
 // a case file (and mpm_case.toml, written from the case, shows them so).
 double file_value(double value) {
-  return std::strtod(fmt::format("{:.9g}", value).c_str(), nullptr);
+  return with_significant_digits(value, 9);
 }
 
 }  // namespace
@@ -244,7 +245,7 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
     // quick case's installation stopped at 1.6 D (docs/centrifuge.md, "The quasi-static analysis").
     c.quasi_static.contact.smoothing = v(s.contact_smoothing);
     c.quasi_static.force_tolerance = v(s.force_tolerance);
-    // Give up a wandering sub-increment after 5 iterations without a new lowest residual:
+    // A wandering sub-increment is given up without waiting for max_iterations:
     // docs/centrifuge.md, "Newton's tolerance".
     c.quasi_static.stall_iterations = s.stall_iterations;
     c.quasi_static.energy_tolerance = mpm::quasi_static::energy_tolerance_for(s.force_tolerance);
