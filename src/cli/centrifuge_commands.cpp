@@ -116,6 +116,11 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
              shown(r.peak_tip_stress_depth_D, "{:.2f}"));
   fmt::print("load-test capacity: {} N at {} mm\n", shown(r.capacity, "{:.1f}"),
              shown(r.load_test_displacement_mm, "{:.3g}"));
+  fmt::print(
+      "head-force scatter about a quadratic over a D of travel: {} % over the last D, at most {} % "
+      "(from {} D of travel)\n",
+      shown(100.0 * r.scatter_last_D, "{:.2f}"), shown(100.0 * r.largest_scatter, "{:.2f}"),
+      shown(r.largest_scatter_from_D, "{:.0f}"));
   fmt::print("checks: K0 stress error {} %, equilibrium error {} %, kinetic / work {} %\n",
              shown(100.0 * r.initial_stress_error, "{:.2f}"),
              shown(100.0 * r.equilibrium_error, "{:.2f}"),

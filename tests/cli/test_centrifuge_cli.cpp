@@ -19,6 +19,7 @@
 
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/mpm_case.hpp"
+#include "pilempm/scenario/centrifuge/experiment.hpp"
 #include "pilempm/simulation/case_assembly.hpp"
 
 namespace {
@@ -264,6 +265,18 @@ TEST(CentrifugeCli, LongQuickCaseRunWritesConsistentPileForcesFieldsAndSummary) 
       << summary;
   EXPECT_GT(json_number(summary, "relaxation_travel_mm"), 0.0) << summary;
   EXPECT_LE(json_number(summary, "relaxation_travel_mm"), 0.05 * D + 1e-3) << summary;
+  // The head force's scatter over the last D is that of pile.csv's installation rows there.
+  std::vector<double> last_travel, last_head;
+  for (std::size_t k = 0; k < pile.rows.size(); ++k) {
+    const double travel = pile.number(k, "pile_displacement_mm") / D;
+    if (pile.text(k, "phase") != "installation" || travel < 1.0 - 1e-9) continue;
+    last_travel.push_back(travel);
+    last_head.push_back(pile.number(k, "head_force_N"));
+  }
+  const double scatter = pilempm::scenario::head_force_scatter(last_travel, last_head);
+  ASSERT_GT(scatter, 0.0);
+  EXPECT_NEAR(json_number(summary, "scatter_last_D"), scatter, 1e-4 * scatter) << summary;
+  EXPECT_GE(json_number(summary, "largest_scatter"), json_number(summary, "scatter_last_D"));
 
   // The number of particles stays the same from the first snapshot to the last and in the
   // fields.

@@ -405,6 +405,11 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
       "off: the force book's closure | {} % "
       "|\n",
       value(100.0 * r.equilibrium_closure, "{:.1e}"));
+  md += fmt::format(
+      "| head force's scatter about a quadratic over a D of travel, over its mean: the last D; "
+      "the largest D (from) | {} %; {} % ({} D) |\n",
+      value(100.0 * r.scatter_last_D, "{:.2f}"), value(100.0 * r.largest_scatter, "{:.2f}"),
+      value(r.largest_scatter_from_D, "{:.0f}"));
   md += fmt::format("| max kinetic energy / pile work, installation | {} % |\n",
                     value(100.0 * r.max_kinetic_to_work, "{:.3f}"));
   md += fmt::format(
@@ -612,6 +617,9 @@ std::vector<std::pair<std::string, double>> summary_numbers(const CentrifugeSumm
           {"equilibrium_error_1D", r.equilibrium_error_1D},
           {"equilibrium_closure", r.equilibrium_closure},
           {"max_kinetic_to_work", r.max_kinetic_to_work},
+          {"scatter_last_D", r.scatter_last_D},
+          {"largest_scatter", r.largest_scatter},
+          {"largest_scatter_from_D", r.largest_scatter_from_D},
           {"particles_in_pile", static_cast<double>(r.particles_in_pile)},
           {"max_penetration_cells", r.max_penetration_cells},
           {"min_radius_mm", r.min_radius_mm},

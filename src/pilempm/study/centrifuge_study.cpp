@@ -538,8 +538,9 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
     if (!complete) readme += "Not all runs of this group exist yet: no figure.\n\n";
     readme +=
         "| run | case file | head force end of installation [N] | peak tip stress [MPa] | "
-        "SLT capacity at 0.1 D [N] | equilibrium error [%] | kinetic / work [%] | wall time "
-        "[s] | checks |\n|---|---|---|---|---|---|---|---|---|\n";
+        "SLT capacity at 0.1 D [N] | head-force scatter over the last D [%] | equilibrium error "
+        "[%] | kinetic / work [%] | wall time [s] | checks |\n|---|---|---|---|---|---|---|---|---|"
+        "---|\n";
     for (const CentrifugeStudyCase& c : g->cases) {
       const std::filesystem::path file = out_dir / stem(c.file) / "summary.csv";
       const auto not_finished =
@@ -549,10 +550,10 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
         failures.push_back(*not_finished);
       if (!std::filesystem::exists(file)) {
         readme += not_finished == unfinished.end()
-                      ? fmt::format("| {} | `{}` | not run | | | | | | |\n", c.label, c.file)
+                      ? fmt::format("| {} | `{}` | not run | | | | | | | |\n", c.label, c.file)
                       : fmt::format(
                             "| {} | `{}` | **did not finish**: {} (log `{}`) | | | | | "
-                            "| |\n",
+                            "| | |\n",
                             c.label, c.file, not_finished->ended,
                             not_finished->log.lexically_relative(out_dir).string());
         continue;
@@ -560,9 +561,10 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
       const NumericTable t = read_numeric_csv(file);
       const std::vector<CentrifugeCheck> failed = failed_checks(checks_of(t));
       readme += fmt::format(
-          "| {} | `{}` | {} | {} | {} | {} | {} | {} | {} |\n", c.label, c.file,
+          "| {} | `{}` | {} | {} | {} | {} | {} | {} | {} | {} |\n", c.label, c.file,
           cell(t, "installation_head_force_N", "{:.1f}"), cell(t, "peak_tip_stress_MPa", "{:.2f}"),
-          cell(t, "load_test_capacity_N", "{:.1f}"), cell(t, "equilibrium_error", "{:.2f}", 100.0),
+          cell(t, "load_test_capacity_N", "{:.1f}"), cell(t, "scatter_last_D", "{:.2f}", 100.0),
+          cell(t, "equilibrium_error", "{:.2f}", 100.0),
           cell(t, "max_kinetic_to_work", "{:.3f}", 100.0), cell(t, "wall_time_s", "{:.0f}"),
           checks_cell(failed));
       if (!failed.empty() && !listed_already(failures, c.file, true)) {

@@ -6,6 +6,8 @@
 #include <limits>
 #include <numbers>
 
+#include <Eigen/Dense>
+
 #include "pilempm/core/tensor.hpp"
 
 namespace pilempm::scenario {
@@ -40,6 +42,24 @@ double max_window_ratio(const std::vector<PileRow>& rows, double window, double 
 }
 
 }  // namespace
+
+double head_force_scatter(const std::vector<double>& travel, const std::vector<double>& head) {
+  const Eigen::Index n = static_cast<Eigen::Index>(std::min(travel.size(), head.size()));
+  if (n < 5) return kNaN;
+  const Eigen::Map<const Eigen::VectorXd> x(travel.data(), n), f(head.data(), n);
+  const double mean = f.mean();
+  if (!(mean > 0.0)) return kNaN;
+  // The quadratic in the travel about its centre, scaled to [-1, 1] (a well-conditioned basis).
+  const double centre = 0.5 * (x.maxCoeff() + x.minCoeff());
+  const double half = std::max(0.5 * (x.maxCoeff() - x.minCoeff()), 1e-300);
+  Eigen::MatrixXd basis(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double s = (x[i] - centre) / half;
+    basis.row(i) << 1.0, s, s * s;
+  }
+  const Eigen::VectorXd fit = basis * basis.colPivHouseholderQr().solve(f);
+  return std::sqrt((f - fit).squaredNorm() / static_cast<double>(n)) / mean;
+}
 
 void initial_stress_check(const CentrifugeScenario& s, const mpm::MpmState& solver,
                           CentrifugeSummary& summary) {
@@ -96,6 +116,7 @@ void summarise_pile(const CentrifugeScenario& s, const std::vector<PileRow>& row
   summary.relaxation_travel_mm = summary.capacity = summary.load_test_displacement_mm = kNaN;
   summary.equilibrium_error = summary.equilibrium_error_1D = summary.equilibrium_closure = kNaN;
   summary.max_kinetic_to_work = kNaN;
+  summary.scatter_last_D = summary.largest_scatter = summary.largest_scatter_from_D = kNaN;
   const double tip_area = std::numbers::pi * 0.25 * D * D;
   const double cell = D / s.cells_per_D;
   double end_displacement = 0.0;
@@ -136,6 +157,32 @@ void summarise_pile(const CentrifugeScenario& s, const std::vector<PileRow>& row
     summary.equilibrium_error_1D = max_window_ratio(rows, D, threshold, residual);
     summary.equilibrium_closure = max_window_ratio(
         rows, cell, threshold, [](const PileRow& r) { return r.force_book_closure(); });
+  }
+  // The head force's scatter over D of travel: the last D, and each D from the start (rows on
+  // a window's edge belong to both windows).
+  std::vector<double> travel, head;
+  for (const PileRow& r : rows)
+    if (r.role == MpmPhaseRole::installation) {
+      travel.push_back(r.displacement / D);
+      head.push_back(r.head);
+    }
+  if (travel.empty() || !(travel.back() >= 1.0 - 1e-9)) return;
+  const auto scatter_over = [&](double from, double to) {
+    std::vector<double> x, f;
+    for (std::size_t i = 0; i < travel.size(); ++i)
+      if (travel[i] >= from - 1e-9 && travel[i] <= to + 1e-9) {
+        x.push_back(travel[i]);
+        f.push_back(head[i]);
+      }
+    return head_force_scatter(x, f);
+  };
+  summary.scatter_last_D = scatter_over(travel.back() - 1.0, travel.back());
+  for (int k = 0; k + 1 <= travel.back() + 1e-9; ++k) {
+    const double scatter = scatter_over(k, k + 1);
+    if (!(scatter <= summary.largest_scatter)) {  // NaN: the first window
+      summary.largest_scatter = scatter;
+      summary.largest_scatter_from_D = k;
+    }
   }
 }
 

@@ -44,6 +44,12 @@ struct CentrifugeSummary {
   /// max kinetic energy (with the scaled mass) / pile work during installation after the first
   /// D of travel.
   double max_kinetic_to_work = 0.0;
+  /// The smoothness of the head force during installation (head_force_scatter): over the last
+  /// D of travel, and the largest over the consecutive D of travel from the start of
+  /// installation (NaN with less than 1 D of travel), with where that D starts [D of travel].
+  double scatter_last_D = 0.0;
+  double largest_scatter = 0.0;
+  double largest_scatter_from_D = 0.0;
   /// At the phase ends: the most particles found deeper than one cell inside the pile (passed
   /// through its surface), the deepest a particle's centre lay inside it [cells of the fine zone]
   /// (the contact holds the grid nodes, so centres may lie a fraction of a cell inside), and the
@@ -73,8 +79,15 @@ class CentrifugeChecks final : public simulation::RunObserver {
 void initial_stress_check(const CentrifugeScenario& scenario, const mpm::Solver& solver,
                           CentrifugeSummary& summary);
 
+/// The head force's scatter over a stretch of travel: the root-mean-square deviation of the
+/// recorded head forces about their least-squares quadratic in the travel, over their mean
+/// (docs/verification.md §8, the smoothness check); NaN for fewer than 5 rows or a mean
+/// that is not positive.
+double head_force_scatter(const std::vector<double>& travel, const std::vector<double>& head);
+
 /// The figures of the summary from the recorded pile: installation head force and tip depth,
-/// peak tip stress, relaxation travel, capacity, equilibrium windows, kinetic energy share.
+/// peak tip stress, relaxation travel, capacity, equilibrium windows, kinetic energy share,
+/// head-force scatter.
 void summarise_pile(const CentrifugeScenario& scenario, const std::vector<PileRow>& rows,
                     CentrifugeSummary& summary);
 
