@@ -120,7 +120,7 @@ void run_centrifuge_command(const CentrifugeFlags& flags) {
       "head-force scatter about a quadratic over a D of travel: {} % over the last D, at most {} % "
       "(from {} D of travel)\n",
       shown(100.0 * r.scatter_last_D, "{:.2f}"), shown(100.0 * r.largest_scatter, "{:.2f}"),
-      shown(r.largest_scatter_from_D, "{:.0f}"));
+      shown(r.largest_scatter_from_D, "{:.3g}"));
   fmt::print("checks: K0 stress error {} %, equilibrium error {} %, kinetic / work {} %\n",
              shown(100.0 * r.initial_stress_error, "{:.2f}"),
              shown(100.0 * r.equilibrium_error, "{:.2f}"),

@@ -55,12 +55,12 @@ TEST(HeadForceScatter, NeedsFiveRowsAndAPositiveMean) {
 TEST(HeadForceScatter, TheSummaryGivesTheLastDAndTheRoughestD) {
   CentrifugeScenario s;
   const double D = s.pile_diameter;
-  // Three D of installation: ±5 N over the first D, ±40 N over the second, ±10 N over the third.
+  // Three D of installation: ±5 N over the first D, ±40 N over the second, ±20 N over the third.
   std::vector<PileRow> rows;
-  const double amplitude[3] = {5.0, 40.0, 10.0};
+  const double amplitude[3] = {5.0, 40.0, 20.0};
   for (int k = 0; k < 3; ++k) {
     const Series part = series(k, k + 1, amplitude[k]);
-    // A part's last row is the next part's first (each D's rows all of its own amplitude).
+    // A part's last row is the next part's first (on the edge, in both windows).
     const std::size_t end = part.travel.size() - (k < 2 ? 1 : 0);
     for (std::size_t i = 0; i < end; ++i) {
       PileRow r;
@@ -80,9 +80,35 @@ TEST(HeadForceScatter, TheSummaryGivesTheLastDAndTheRoughestD) {
       f.push_back(r.head);
     }
   EXPECT_DOUBLE_EQ(summary.scatter_last_D, head_force_scatter(x, f));
-  EXPECT_NEAR(summary.scatter_last_D, 10.0 / mean(f), 0.1 * 10.0 / mean(f));
+  EXPECT_NEAR(summary.scatter_last_D, 20.0 / mean(f), 0.1 * 20.0 / mean(f));
   EXPECT_EQ(summary.largest_scatter_from_D, 1.0);
   EXPECT_NEAR(summary.largest_scatter, 40.0 / 1180.0, 0.1 * 40.0 / 1180.0);
+  // A D with fewer than 5 rows is left out, not taken as the largest: with the second D's inner
+  // rows dropped but the one at 1.5 D (3 rows with its edges), the largest is the third D's.
+  std::vector<PileRow> sparse;
+  for (const PileRow& r : rows) {
+    const double travel = r.displacement / D;
+    if (travel > 1.0 + 1e-9 && travel < 2.0 - 1e-9 && std::abs(travel - 1.5) > 0.01) continue;
+    sparse.push_back(r);
+  }
+  summarise_pile(s, sparse, summary);
+  EXPECT_EQ(summary.largest_scatter_from_D, 2.0);
+  EXPECT_DOUBLE_EQ(summary.largest_scatter, summary.scatter_last_D);
+  // Travel that is not a whole number of D: the last D counts among the windows. 2.5 D with
+  // the roughness in the last half D.
+  rows.clear();
+  for (int i = 0; i <= 50; ++i) {
+    PileRow r;
+    r.role = simulation::MpmPhaseRole::installation;
+    const double travel = 0.05 * (i + 1);
+    r.displacement = travel * D;
+    r.head = 1000.0 + 100.0 * travel + (travel > 2.0 ? (i % 2 == 0 ? 30.0 : -30.0) : 0.0);
+    rows.push_back(r);
+  }
+  summarise_pile(s, rows, summary);
+  EXPECT_NEAR(summary.largest_scatter_from_D, 1.55, 1e-9);
+  EXPECT_DOUBLE_EQ(summary.largest_scatter, summary.scatter_last_D);
+  EXPECT_GT(summary.largest_scatter, 0.005);
   // Less than 1 D of travel: no scatter.
   rows.resize(15);
   summarise_pile(s, rows, summary);

@@ -409,7 +409,7 @@ std::string summary_markdown(const CentrifugeScenario& s, const CentrifugeSummar
       "| head force's scatter about a quadratic over a D of travel, over its mean: the last D; "
       "the largest D (from) | {} %; {} % ({} D) |\n",
       value(100.0 * r.scatter_last_D, "{:.2f}"), value(100.0 * r.largest_scatter, "{:.2f}"),
-      value(r.largest_scatter_from_D, "{:.0f}"));
+      value(r.largest_scatter_from_D, "{:.3g}"));
   md += fmt::format("| max kinetic energy / pile work, installation | {} % |\n",
                     value(100.0 * r.max_kinetic_to_work, "{:.3f}"));
   md += fmt::format(

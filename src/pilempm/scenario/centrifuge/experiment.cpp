@@ -6,9 +6,8 @@
 #include <limits>
 #include <numbers>
 
-#include <Eigen/Dense>
-
 #include "pilempm/core/tensor.hpp"
+#include "pilempm/mpm/quasi_static/load_path.hpp"
 
 namespace pilempm::scenario {
 
@@ -44,21 +43,11 @@ double max_window_ratio(const std::vector<PileRow>& rows, double window, double 
 }  // namespace
 
 double head_force_scatter(const std::vector<double>& travel, const std::vector<double>& head) {
-  const Eigen::Index n = static_cast<Eigen::Index>(std::min(travel.size(), head.size()));
-  if (n < 5) return kNaN;
-  const Eigen::Map<const Eigen::VectorXd> x(travel.data(), n), f(head.data(), n);
-  const double mean = f.mean();
-  if (!(mean > 0.0)) return kNaN;
-  // The quadratic in the travel about its centre, scaled to [-1, 1] (a well-conditioned basis).
-  const double centre = 0.5 * (x.maxCoeff() + x.minCoeff());
-  const double half = std::max(0.5 * (x.maxCoeff() - x.minCoeff()), 1e-300);
-  Eigen::MatrixXd basis(n, 3);
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const double s = (x[i] - centre) / half;
-    basis.row(i) << 1.0, s, s * s;
-  }
-  const Eigen::VectorXd fit = basis * basis.colPivHouseholderQr().solve(f);
-  return std::sqrt((f - fit).squaredNorm() / static_cast<double>(n)) / mean;
+  if (travel.size() != head.size() || travel.size() < 5) return kNaN;
+  double sum = 0.0;
+  for (double f : head) sum += f;
+  if (!(sum > 0.0)) return kNaN;
+  return mpm::quasi_static::scatter_about_fit(travel, head, 2);
 }
 
 void initial_stress_check(const CentrifugeScenario& s, const mpm::MpmState& solver,
@@ -176,13 +165,17 @@ void summarise_pile(const CentrifugeScenario& s, const std::vector<PileRow>& row
       }
     return head_force_scatter(x, f);
   };
-  summary.scatter_last_D = scatter_over(travel.back() - 1.0, travel.back());
-  for (int k = 0; k + 1 <= travel.back() + 1e-9; ++k) {
-    const double scatter = scatter_over(k, k + 1);
-    if (!(scatter <= summary.largest_scatter)) {  // NaN: the first window
-      summary.largest_scatter = scatter;
-      summary.largest_scatter_from_D = k;
-    }
+  // The whole D from the start, and the last D where the travel is not a whole number of D.
+  const double end = travel.back();
+  summary.scatter_last_D = scatter_over(end - 1.0, end);
+  std::vector<double> starts;
+  for (int k = 0; k + 1 <= end + 1e-9; ++k) starts.push_back(k);
+  if (end - 1.0 > starts.back() + 1e-9) starts.push_back(end - 1.0);
+  for (const double from : starts) {
+    const double scatter = scatter_over(from, from + 1.0);
+    if (std::isnan(scatter) || scatter <= summary.largest_scatter) continue;
+    summary.largest_scatter = scatter;
+    summary.largest_scatter_from_D = from;
   }
 }
 

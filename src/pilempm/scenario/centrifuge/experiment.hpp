@@ -45,8 +45,9 @@ struct CentrifugeSummary {
   /// D of travel.
   double max_kinetic_to_work = 0.0;
   /// The smoothness of the head force during installation (head_force_scatter): over the last
-  /// D of travel, and the largest over the consecutive D of travel from the start of
-  /// installation (NaN with less than 1 D of travel), with where that D starts [D of travel].
+  /// D of travel, and the largest over the whole D of travel from the start of installation and
+  /// the last D, with where that D starts [D of travel] (NaN with less than 1 D of travel; a D
+  /// with fewer than 5 rows is left out).
   double scatter_last_D = 0.0;
   double largest_scatter = 0.0;
   double largest_scatter_from_D = 0.0;
@@ -81,8 +82,8 @@ void initial_stress_check(const CentrifugeScenario& scenario, const mpm::Solver&
 
 /// The head force's scatter over a stretch of travel: the root-mean-square deviation of the
 /// recorded head forces about their least-squares quadratic in the travel, over their mean
-/// (docs/verification.md §8, the smoothness check); NaN for fewer than 5 rows or a mean
-/// that is not positive.
+/// (docs/verification.md §8, the smoothness check); NaN for fewer than 5 rows, sizes
+/// that differ or a mean that is not positive.
 double head_force_scatter(const std::vector<double>& travel, const std::vector<double>& head);
 
 /// The figures of the summary from the recorded pile: installation head force and tip depth,
