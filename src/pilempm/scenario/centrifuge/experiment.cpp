@@ -165,14 +165,15 @@ void summarise_pile(const CentrifugeScenario& s, const std::vector<PileRow>& row
       }
     return head_force_scatter(x, f);
   };
-  // The whole D from the start, and the last D where the travel is not a whole number of D.
+  // The whole D from the start, and the last D where the travel is not a whole number of D:
+  // the last window is always the last D.
   const double end = travel.back();
-  summary.scatter_last_D = scatter_over(end - 1.0, end);
   std::vector<double> starts;
   for (int k = 0; k + 1 <= end + 1e-9; ++k) starts.push_back(k);
   if (end - 1.0 > starts.back() + 1e-9) starts.push_back(end - 1.0);
   for (const double from : starts) {
     const double scatter = scatter_over(from, from + 1.0);
+    if (from == starts.back()) summary.scatter_last_D = scatter;
     if (std::isnan(scatter) || scatter <= summary.largest_scatter) continue;
     summary.largest_scatter = scatter;
     summary.largest_scatter_from_D = from;
