@@ -164,6 +164,7 @@ mpm::quasi_static::Settings quasi_static_settings(const MpmCase& c) {
   // A diagnostic, not a setting of the case: a line per Newton iteration on stderr.
   const char* trace = std::getenv("PILEMPM_NEWTON_TRACE");
   if (trace != nullptr && *trace != '\0' && std::string_view(trace) != "0") s.trace = stderr;
+  s.trace_tangent = s.trace != nullptr && std::string_view(trace) == "tangent";
   return s;
 }
 

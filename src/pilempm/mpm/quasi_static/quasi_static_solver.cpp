@@ -371,6 +371,8 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
         return false;
       }
       if (iteration == 1) last_matrix_ = matrix;
+      if (settings_.trace != nullptr && settings_.trace_tangent)
+        trace_tangent_along(setup, du, step, gravity, traction, body_step, trial, matrix);
       // Line search: halve the step while the residual norm does not fall. If no length lowers it,
       // the length with the smallest residual is taken (not the shortest: near a change of the
       // contact or plastic state the shortest step can raise ||R|| by orders of magnitude).

@@ -123,6 +123,13 @@ struct Settings {
   bool predictor = true;
   /// Relative size of the strain perturbation h = perturbation * max(||Δε||, 1e-6).
   double perturbation = 1.0e-7;
+  /// Whether the Newton matrix holds the derivative of each particle's stress with respect to
+  /// its spin increment: the update starts from the converged state turned by the spin
+  /// (Hughes-Winget), so the stress depends on the antisymmetric part of the displacement
+  /// gradient as well. Off, the matrix misses about σ/E of the stiffness where the stress is
+  /// large against the modulus (an elastic pile push then converged linearly, 8 iterations a
+  /// step, against 2-3 with it; docs/quasi-static.md, "Newton's matrix"). On by default.
+  bool spin_terms = true;
   /// A particle whose update ends on the model's mean stress floor (hypoplasticity in tension:
   /// the stress no longer changes with the strain) or whose perturbed update leaves the model's
   /// domain gets, in the Newton matrix only, an isotropic elastic stiffness (ν = 0.3) of this
@@ -191,6 +198,11 @@ struct Settings {
   /// nodes and forces); nullptr: nowhere. The run loop sets stderr when the environment
   /// variable PILEMPM_NEWTON_TRACE is set (docs/quasi-static.md, "Convergence").
   std::FILE* trace = nullptr;
+  /// With `trace`: after each Newton step is solved, the matrix against central differences of
+  /// the residual along the step, what the linear model misses over the whole step, by part,
+  /// and the particles that miss most (three more evaluations an iteration; a diagnostic).
+  /// PILEMPM_NEWTON_TRACE=tangent in a run (docs/quasi-static.md, "Convergence").
+  bool trace_tangent = false;
 
   /// Throws InvalidValue naming the first setting out of range.
   void validate() const;
@@ -366,6 +378,12 @@ class QuasiStaticSolver final : public MpmState {
   bool evaluate(const StepSetup& setup, const std::vector<double>& du, double gravity,
                 double traction, const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
                 LoadStepResult& result) const;
+  // Diagnostic (PILEMPM_TANGENT_TRACE with the Newton trace): the Newton matrix against central
+  // differences of the residual along the Newton step at the iterate du, by part and by particle.
+  void trace_tangent_along(const StepSetup& setup, const std::vector<double>& du,
+                           const Eigen::VectorXd& step, double gravity, double traction,
+                           const std::vector<Vec2>& body_step, const Trial& at,
+                           const SparseMatrix& matrix) const;
   // Keeps the contact points within |l| of their particle along x and y (corner_position_),
   // each drawn back along the segment to its particle, and never deeper into a body than it was.
   void bound_corners();

@@ -129,6 +129,9 @@ struct QuasiStaticSolver::Trial {
   std::vector<Mat2> gradient;  // G = Σ Δu_i ⊗ ∇S_i
   std::vector<double> hoop;
   std::vector<detail::Mat4> tangent;
+  // Per particle: the derivative of its stress (11, 22, 33, 12) with respect to its spin
+  // increment w = ½(G_yx − G_xy), through the Hughes-Winget rotation of the converged state.
+  std::vector<detail::Vec4> spin_tangent;
   std::vector<Vec2> node_displacement;              // per node
   std::vector<double> internal, external, contact;  // per node component
   std::vector<PointContact> corner;                 // per particle corner

@@ -72,6 +72,23 @@ void material_tangent(const ConstitutiveModel& model, const MaterialState& conve
   }
 }
 
+// The derivative of a particle's stress (in-plane components) with respect to its spin
+// increment w: the update starts from the converged state turned by w (Hughes-Winget), so
+// ∂σ/∂w = (∂σ/∂σ_start) ∂(R σ_n R^T)/∂w. The derivative of the turn is taken by central
+// differences (smooth, to round-off); ∂σ/∂σ_start is taken as the identity, which is exact for
+// linear elasticity and, for the others, misses only how the increment's response depends on its
+// start stress (a term of the order of the increment's stress change against the stress).
+Vec4 spin_tangent(const ConstitutiveModel& model, const MaterialState& converged, double spin) {
+  const double h = 1.0e-6;
+  MaterialState plus = converged, minus = converged;
+  rotate_state_about_z(plus, spin + h, model.history_variables());
+  rotate_state_about_z(minus, spin - h, model.history_variables());
+  const Vec6 difference = (plus.stress - minus.stress) / (2.0 * h);
+  Vec4 column;
+  for (int r = 0; r < 4; ++r) column[r] = difference[kComponents[r]];
+  return column;
+}
+
 }  // namespace
 
 bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<double>& du,
@@ -112,7 +129,10 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   trial.stabilising_stress.assign(stabilising ? std::size_t(count) : 0, Vec6::Zero());
   trial.gradient.resize(std::size_t(count));
   trial.hoop.resize(std::size_t(count));
-  if (tangent) trial.tangent.resize(std::size_t(count));
+  if (tangent) {
+    trial.tangent.resize(std::size_t(count));
+    trial.spin_tangent.resize(std::size_t(count));
+  }
 
   // Kinematics, the stress from the converged state and the tangent, particle by particle.
   bool failed = false;
@@ -201,6 +221,10 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     material_tangent(model, p.state[std::size_t(i)], rotated, state, strain, on_floor,
                      trial.path[std::size_t(i)], settings_, axisymmetric, d);
     if (low_modulus > 0.0) d += in_plane(low_stiffness);
+    // A particle on the stress floor has the floor stiffness alone (material_tangent).
+    trial.spin_tangent[std::size_t(i)] = settings_.spin_terms && !on_floor
+                                             ? spin_tangent(model, p.state[std::size_t(i)], spin)
+                                             : Vec4::Zero();
   }
   result.seconds_material += seconds_since(material_start);
   trial.floor_particles = floor_particles;
@@ -247,6 +271,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     // particle's volumetric row, b̄ the cell's mean, n = 2 in plane strain, 3 in axisymmetry).
     Eigen::Matrix<double, 4, 2 * kMaxCellNodes> b;
     Eigen::Matrix<double, 4, 2 * kMaxCellNodes> db;
+    Eigen::Matrix<double, 1, 2 * kMaxCellNodes> spin_row;  // ∂w/∂u over the block's columns
 #pragma omp for schedule(static)
     for (long i = 0; i < count; ++i) {
       const ParticleNodes& pn = setup.nodes[std::size_t(i)];
@@ -262,9 +287,12 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       int width = 0;
       const int* column_node = setup.block_nodes(setup.block[std::size_t(i)], width);
       b.leftCols(2 * width).setZero();
+      spin_row.leftCols(2 * width).setZero();
       for (int k = 0; k < pn.count; ++k) {
         const int j = mean != nullptr ? setup.slot[std::size_t(i)][std::size_t(k)] : k;
         const Vec2& g = pn.gradient[k];
+        spin_row(2 * j) = -0.5 * g.y();
+        spin_row(2 * j + 1) = 0.5 * g.x();
         b(0, 2 * j) = g.x();
         b(1, 2 * j + 1) = g.y();
         if (axisymmetric) b(2, 2 * j) = pn.weight[k] / radius;
@@ -294,6 +322,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       if (!tangent) continue;
       const int columns = 2 * width;
       db.leftCols(columns).noalias() = volume * trial.tangent[std::size_t(i)] * b.leftCols(columns);
+      db.leftCols(columns).noalias() +=
+          volume * trial.spin_tangent[std::size_t(i)] * spin_row.leftCols(columns);
       const int* map =
           setup.scatter.data() + setup.scatter_offset[std::size_t(setup.block[std::size_t(i)])];
       for (int c = 0; c < columns; ++c)

@@ -3,6 +3,8 @@
 // total and by part, for tests and for finding what slows the Newton iterations down.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/quasi_static/step_data.hpp"
@@ -97,6 +99,104 @@ TangentCheck QuasiStaticSolver::check_tangent(const LoadStep& load, double fract
       check.worst_component = int(c % 2);
     }
   return check;
+}
+
+}  // namespace pilempm::mpm::quasi_static
+
+namespace pilempm::mpm::quasi_static {
+
+using namespace detail;
+
+void QuasiStaticSolver::trace_tangent_along(const StepSetup& setup, const std::vector<double>& du,
+                                            const Eigen::VectorXd& step, double gravity,
+                                            double traction, const std::vector<Vec2>& body_step,
+                                            const Trial& at, const SparseMatrix& matrix) const {
+  std::FILE* trace = settings_.trace;
+  const double scale = 1.0e-4;  // of the Newton step, for the central differences
+  LoadStepResult ignored;
+  Trial plus, minus, full;
+  std::vector<double> up = du, down = du, ahead = du;
+  for (int d = 0; d < setup.unknowns; ++d) {
+    up[std::size_t(d)] += scale * step[d];
+    down[std::size_t(d)] -= scale * step[d];
+    ahead[std::size_t(d)] += step[d];
+  }
+  if (!evaluate(setup, up, gravity, traction, body_step, false, plus, ignored) ||
+      !evaluate(setup, down, gravity, traction, body_step, false, minus, ignored) ||
+      !evaluate(setup, ahead, gravity, traction, body_step, false, full, ignored)) {
+    std::fprintf(trace, "tangent: a stress update failed along the step\n");
+    return;
+  }
+  const auto internal = [&](const Trial& t) {
+    return at_unknowns(setup.dof, t.internal, setup.unknowns);
+  };
+  const auto contact = [&](const Trial& t) {
+    return Eigen::VectorXd(-at_unknowns(setup.dof, t.contact, setup.unknowns));
+  };
+  // K s by part (the ghost springs are in the internal force) and the residual's central
+  // difference along s.
+  SparseMatrix material = setup.pattern;
+  std::copy(at.material_values.begin(), at.material_values.end(), material.valuePtr());
+  const Eigen::VectorXd km = material * step + product(at.ghost_entries, step);
+  const Eigen::VectorXd kc = product(at.contact_entries, step);
+  const Eigen::VectorXd ks = matrix * step;
+  const Eigen::VectorXd difference = (plus.residual - minus.residual) / (2.0 * scale);
+  const Eigen::VectorXd dm = (internal(plus) - internal(minus)) / (2.0 * scale);
+  const Eigen::VectorXd dc = (contact(plus) - contact(minus)) / (2.0 * scale);
+  std::fprintf(trace,
+               "tangent: along the step: |dR/ds - Ks| / |Ks| %.3g (material %.3g, contact %.3g); "
+               "over the whole step: |R(du + s)| / |R| %.3g, what K s misses: material %.4g N, "
+               "contact %.4g N\n",
+               ratio((difference - ks).norm(), ks.norm()), ratio((dm - km).norm(), ks.norm()),
+               ratio((dc - kc).norm(), ks.norm()), ratio(full.residual.norm(), at.residual.norm()),
+               (internal(full) - internal(at) - km).norm(),
+               (contact(full) - contact(at) - kc).norm());
+  // The particles whose stress change between two evaluations (from `a` to `b`, their iterates
+  // apart by `apart` times the Newton step) differs most from the prediction of the tangents at
+  // the iterate: |Δσ − D Δε − d_w Δw| V / apart, largest first.
+  const auto worst_particles = [&](const char* what, const Trial& a, const Trial& b, double apart) {
+    const Particles& particles = particles_;
+    struct Entry {
+      double error;
+      std::size_t particle;
+    };
+    std::vector<Entry> entries;
+    double total = 0.0;
+    for (std::size_t k = 0; k < particles.size(); ++k) {
+      const Vec6 ds = (b.state[k].stress - a.state[k].stress) / apart;
+      const Vec6 de = (b.strain_increment[k] - a.strain_increment[k]) / apart;
+      const double dw = 0.5 *
+                        ((b.gradient[k](1, 0) - b.gradient[k](0, 1)) -
+                         (a.gradient[k](1, 0) - a.gradient[k](0, 1))) /
+                        apart;
+      Vec4 e4, s4;
+      for (int r = 0; r < 4; ++r) {
+        e4[r] = de[kComponents[r]];
+        s4[r] = ds[kComponents[r]];
+      }
+      const double error =
+          (s4 - at.tangent[k] * e4 - at.spin_tangent[k] * dw).norm() * particles.volume[k];
+      total += error * error;
+      entries.push_back({error, k});
+    }
+    const std::size_t shown = std::min<std::size_t>(4, entries.size());
+    std::partial_sort(entries.begin(), entries.begin() + long(shown), entries.end(),
+                      [](const Entry& x, const Entry& y) { return x.error > y.error; });
+    std::fprintf(trace, "tangent: %s: particles' |dsigma - D de| V, all %.3g N m; largest:\n", what,
+                 std::sqrt(total));
+    for (std::size_t w = 0; w < shown; ++w) {
+      const std::size_t k = entries[w].particle;
+      const Vec6& s = at.state[k].stress;
+      std::fprintf(trace,
+                   "tangent:   particle %zu at (%.5g, %.5g) m: %.3g N m; p %.4g kPa, |strain "
+                   "increment| %.3g, floor %d\n",
+                   k, particles.position[k].x(), particles.position[k].y(), entries[w].error,
+                   -(s[k11] + s[k22] + s[k33]) / 3.0e3, at.strain_increment[k].norm(),
+                   int(at.on_floor[k]));
+    }
+  };
+  worst_particles("along the step", minus, plus, 2.0 * scale);
+  worst_particles("over the whole step", at, full, 1.0);
 }
 
 }  // namespace pilempm::mpm::quasi_static
