@@ -95,7 +95,7 @@ int compare_solvers(int cells_per_d, int steps, int repeats) {
 // Diagnostic overrides of the settings (before/after comparisons in docs/quasi-static.md):
 // QS_VERTEX_RADIUS (ContactSettings::vertex_radius), QS_PENALTY (penalty_factor), QS_BBAR
 // (Settings::volumetric_averaging, 0 or 1), QS_STEP_LIMIT (Settings::step_limit), QS_TURNING
-// (ContactSettings::turning_terms, 0 or 1).
+// (ContactSettings::turning_terms, 0 or 1), QS_SPIN (Settings::spin_terms, 0 or 1).
 void apply_environment(Settings& settings) {
   if (const char* v = std::getenv("QS_VERTEX_RADIUS"))
     settings.contact.vertex_radius = std::atof(v);
@@ -109,6 +109,7 @@ void apply_environment(Settings& settings) {
   if (const char* v = std::getenv("QS_ACCEPT_AFTER")) settings.accept_after = std::atoi(v);
   if (const char* v = std::getenv("QS_SMOOTHING")) settings.contact.smoothing = std::atof(v);
   if (const char* v = std::getenv("QS_TURNING")) settings.contact.turning_terms = std::atoi(v) != 0;
+  if (const char* v = std::getenv("QS_SPIN")) settings.spin_terms = std::atoi(v) != 0;
   if (const char* v = std::getenv("QS_TANGENTIAL_RATIO"))
     settings.contact.tangential_ratio = std::atof(v);
 }

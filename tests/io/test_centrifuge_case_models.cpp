@@ -231,8 +231,8 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheContactSmoothing) {
 }
 
 // Newton's force tolerance: 1e-4 by default in a centrifuge case (not the library's 1e-6), the
-// energy tolerance 100 f² with it, both in the MPM case written and read back; refused out of
-// range and in an explicit case.
+// energy tolerance 100 f² with it unless given, both in the MPM case written and read back;
+// refused out of range and in an explicit case.
 TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
   const CentrifugeScenario plain =
       read_centrifuge_case_text(quasi_static(kMohrCoulomb), "case.toml");
@@ -260,6 +260,18 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
   const simulation::MpmCase tight_case = centrifuge_to_mpm_case(tight, "m.toml");
   EXPECT_EQ(tight_case.quasi_static.force_tolerance, 1e-6);
   EXPECT_EQ(tight_case.quasi_static.energy_tolerance, 1e-10);
+  const CentrifugeScenario energy = read_centrifuge_case_text(
+      quasi_static(kMohrCoulomb, "energy_tolerance = 1e-8\n"), "case.toml");
+  const simulation::MpmCase energy_case = centrifuge_to_mpm_case(energy, "m.toml");
+  EXPECT_EQ(energy_case.quasi_static.force_tolerance, 1e-4);
+  EXPECT_EQ(energy_case.quasi_static.energy_tolerance, 1e-8);
+  EXPECT_EQ(read_mpm_case_text(centrifuge_mpm_case_text(energy_case), "mpm_case.toml")
+                .quasi_static.energy_tolerance,
+            1e-8);
+  expect_refused(quasi_static(kMohrCoulomb, "energy_tolerance = 0.1\n"), "energy_tolerance",
+                 "solver.energy_tolerance", "0.01");
+  expect_refused(kMohrCoulomb + std::string("[solver]\nenergy_tolerance = 1e-5\n"),
+                 "energy_tolerance", "solver.energy_tolerance", "quasi-static");
   expect_refused(quasi_static(kMohrCoulomb, "force_tolerance = 0.01\n"), "force_tolerance",
                  "solver.force_tolerance", "0.001");
   expect_refused(kMohrCoulomb + std::string("[solver]\nforce_tolerance = 1e-5\n"),

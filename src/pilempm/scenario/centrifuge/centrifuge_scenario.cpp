@@ -248,7 +248,8 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
     // A wandering sub-increment is given up without waiting for max_iterations:
     // docs/centrifuge.md, "Newton's tolerance".
     c.quasi_static.stall_iterations = s.stall_iterations;
-    c.quasi_static.energy_tolerance = mpm::quasi_static::energy_tolerance_for(s.force_tolerance);
+    c.quasi_static.energy_tolerance =
+        v(s.energy_tolerance.value_or(mpm::quasi_static::energy_tolerance_for(s.force_tolerance)));
     c.quasi_static.low_stress_stiffness = v(s.low_stress_stiffness);
     c.quasi_static.low_stress_pressure = v(s.low_stress_pressure_Pa);
     c.quasi_static.low_stress_use = s.low_stress_use;
