@@ -46,5 +46,27 @@ TEST(InPlaneRotation, EqualsRotateStateForASpinAboutZ) {
   }
 }
 
+// The turned tensor's derivative with respect to the spin increment (the Newton matrix's spin
+// terms) equals central differences of the turn, at spins from round-off size to 4.
+TEST(InPlaneRotation, TheTurnsDerivativeEqualsItsCentralDifference) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const double h = 1e-6;
+  for (double size : {1e-8, 1e-3, 0.1, 1.0, 4.0}) {
+    for (int trial = 0; trial < 20; ++trial) {
+      MaterialState state;
+      for (int j = 0; j < 6; ++j) state.stress[j] = 1e5 * u(rng);
+      const double w = size * u(rng);
+      MaterialState at = state, plus = state, minus = state;
+      rotate_state_about_z(at, w, kHistory);
+      rotate_state_about_z(plus, w + h, kHistory);
+      rotate_state_about_z(minus, w - h, kHistory);
+      const Vec6 difference = (plus.stress - minus.stress) / (2.0 * h);
+      EXPECT_LE((rotation_derivative_about_z(at.stress, w) - difference).norm(), 1e-8 * 1e5 * 6)
+          << w;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace pilempm::mpm

@@ -23,6 +23,21 @@ inline void rotate_about_z(Vec6& a, double c, double s) {
   a[k23] = s * a13 + c * a23;
 }
 
+/// The derivative of the turned tensor A = R A₀ Rᵀ with respect to the spin increment w of
+/// rotate_state_about_z, given A itself: ∂A/∂θ is the commutator of the rotation's generator
+/// with A (in components: ∂A11 = −√2 A12, ∂A22 = √2 A12, ∂A12 = √2 (A11 − A22), ∂A13 = −A23,
+/// ∂A23 = A13, Mandel), and θ = 2 atan(w/2), so ∂θ/∂w = 1/(1 + w²/4).
+inline Vec6 rotation_derivative_about_z(const Vec6& a, double spin_increment) {
+  const double rate = 1.0 / (1.0 + 0.25 * spin_increment * spin_increment);
+  Vec6 d = Vec6::Zero();
+  d[k11] = -kSqrt2 * a[k12] * rate;
+  d[k22] = kSqrt2 * a[k12] * rate;
+  d[k12] = kSqrt2 * (a[k11] - a[k22]) * rate;
+  d[k13] = -a[k23] * rate;
+  d[k23] = a[k13] * rate;
+  return d;
+}
+
 /// Rotates the stress and the history tensors among `history` (the model's
 /// history_variables()) by the spin increment w = W_21 = ½(∂v_y/∂x - ∂v_x/∂y) Δt, the in-plane
 /// equivalent of rotate_state().

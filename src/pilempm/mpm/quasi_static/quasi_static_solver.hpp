@@ -128,7 +128,7 @@ struct Settings {
   /// (Hughes-Winget), so the stress depends on the antisymmetric part of the displacement
   /// gradient as well. Off, the matrix misses about σ/E of the stiffness where the stress is
   /// large against the modulus (an elastic pile push then converged linearly, 8 iterations a
-  /// step, against 2-3 with it; docs/quasi-static.md, "Newton's matrix"). On by default.
+  /// step, against 2-3 with it; docs/quasi-static.md, "The spin terms"). On by default.
   bool spin_terms = true;
   /// A particle whose update ends on the model's mean stress floor (hypoplasticity in tension:
   /// the stress no longer changes with the strain) or whose perturbed update leaves the model's
@@ -201,7 +201,7 @@ struct Settings {
   /// With `trace`: after each Newton step is solved, the matrix against central differences of
   /// the residual along the step, what the linear model misses over the whole step, by part,
   /// and the particles that miss most (three more evaluations an iteration; a diagnostic).
-  /// PILEMPM_NEWTON_TRACE=tangent in a run (docs/quasi-static.md, "Convergence").
+  /// PILEMPM_NEWTON_TRACE=tangent in a run (docs/quasi-static.md, "Newton trace").
   bool trace_tangent = false;
 
   /// Throws InvalidValue naming the first setting out of range.
@@ -378,8 +378,8 @@ class QuasiStaticSolver final : public MpmState {
   bool evaluate(const StepSetup& setup, const std::vector<double>& du, double gravity,
                 double traction, const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
                 LoadStepResult& result) const;
-  // Diagnostic (PILEMPM_TANGENT_TRACE with the Newton trace): the Newton matrix against central
-  // differences of the residual along the Newton step at the iterate du, by part and by particle.
+  // Diagnostic (Settings::trace_tangent): the Newton matrix against central differences of the
+  // residual along the Newton step at the iterate du, by part and by particle.
   void trace_tangent_along(const StepSetup& setup, const std::vector<double>& du,
                            const Eigen::VectorXd& step, double gravity, double traction,
                            const std::vector<Vec2>& body_step, const Trial& at,

@@ -72,23 +72,6 @@ void material_tangent(const ConstitutiveModel& model, const MaterialState& conve
   }
 }
 
-// The derivative of a particle's stress (in-plane components) with respect to its spin
-// increment w: the update starts from the converged state turned by w (Hughes-Winget), so
-// ∂σ/∂w = (∂σ/∂σ_start) ∂(R σ_n R^T)/∂w. The derivative of the turn is taken by central
-// differences (smooth, to round-off); ∂σ/∂σ_start is taken as the identity, which is exact for
-// linear elasticity and, for the others, misses only how the increment's response depends on its
-// start stress (a term of the order of the increment's stress change against the stress).
-Vec4 spin_tangent(const ConstitutiveModel& model, const MaterialState& converged, double spin) {
-  const double h = 1.0e-6;
-  MaterialState plus = converged, minus = converged;
-  rotate_state_about_z(plus, spin + h, model.history_variables());
-  rotate_state_about_z(minus, spin - h, model.history_variables());
-  const Vec6 difference = (plus.stress - minus.stress) / (2.0 * h);
-  Vec4 column;
-  for (int r = 0; r < 4; ++r) column[r] = difference[kComponents[r]];
-  return column;
-}
-
 }  // namespace
 
 bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<double>& du,
@@ -221,10 +204,16 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     material_tangent(model, p.state[std::size_t(i)], rotated, state, strain, on_floor,
                      trial.path[std::size_t(i)], settings_, axisymmetric, d);
     if (low_modulus > 0.0) d += in_plane(low_stiffness);
-    // A particle on the stress floor has the floor stiffness alone (material_tangent).
-    trial.spin_tangent[std::size_t(i)] = settings_.spin_terms && !on_floor
-                                             ? spin_tangent(model, p.state[std::size_t(i)], spin)
-                                             : Vec4::Zero();
+    // The spin terms (Settings::spin_terms): ∂σ/∂w = (∂σ/∂σ_start) ∂(R σ_n Rᵀ)/∂w with
+    // ∂σ/∂σ_start taken as the identity (exact for linear elasticity; for the other models the
+    // increment's dependence on its start stress is left out). A particle on the stress floor
+    // has the floor stiffness alone (material_tangent).
+    Vec4& spin_column = trial.spin_tangent[std::size_t(i)];
+    spin_column.setZero();
+    if (settings_.spin_terms && !on_floor) {
+      const Vec6 turn = rotation_derivative_about_z(rotated.stress, spin);
+      for (int r = 0; r < 4; ++r) spin_column[r] = turn[kComponents[r]];
+    }
   }
   result.seconds_material += seconds_since(material_start);
   trial.floor_particles = floor_particles;

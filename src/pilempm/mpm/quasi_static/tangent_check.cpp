@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/quasi_static/step_data.hpp"
@@ -100,12 +99,6 @@ TangentCheck QuasiStaticSolver::check_tangent(const LoadStep& load, double fract
     }
   return check;
 }
-
-}  // namespace pilempm::mpm::quasi_static
-
-namespace pilempm::mpm::quasi_static {
-
-using namespace detail;
 
 void QuasiStaticSolver::trace_tangent_along(const StepSetup& setup, const std::vector<double>& du,
                                             const Eigen::VectorXd& step, double gravity,

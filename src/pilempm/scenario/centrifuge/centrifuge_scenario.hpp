@@ -65,9 +65,9 @@ struct CentrifugeScenario {
   /// (mpm::ContactSettings::smoothing; quasi-static analysis only, docs/centrifuge.md).
   double contact_smoothing = 0.05;
   /// Newton's force tolerance (mpm::quasi_static::Settings::force_tolerance; quasi-static
-  /// analysis only): 1e-4 of the reference
-  /// force, not the library's 1e-6: 21 % fewer Newton iterations on the quick case, its head
-  /// force within 0.3 % and its capacity within 2 % (docs/centrifuge.md, "Newton's tolerance").
+  /// analysis only): 1e-4 of the reference force, not the library's 1e-6: 21 % fewer Newton
+  /// iterations on the quick case, its head force within 0.3 % and its capacity within 2 %
+  /// (docs/centrifuge.md, "Newton's tolerance").
   double force_tolerance = 1.0e-4;
   /// Newton's energy tolerance (mpm::quasi_static::Settings::energy_tolerance: |δu_k · R_k| at
   /// most this fraction of the first iteration's; quasi-static analysis only); unset:
