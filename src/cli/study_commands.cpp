@@ -91,7 +91,8 @@ struct CentrifugeStudyFlags {
   int jobs = 1;
   bool jobs_given = false;
   std::string write_commands;
-  std::string analysis;  ///< --analysis, or "" (each case file's)
+  std::string analysis;        ///< --analysis, or "" (each case file's)
+  std::string reference_data;  ///< --reference-data, or ""
 };
 
 // The pilempm program that runs: the child runs of the study start it again.
@@ -115,6 +116,14 @@ void check_how_to_run(const CentrifugeStudyFlags& flags) {
     throw InputError("command line", 0, "--write-commands", flags.write_commands,
                      "not with --report-only: write the commands first, run them, then "
                      "--report-only gathers their folders");
+  if (!flags.write_commands.empty() && !flags.reference_data.empty())
+    throw InputError("command line", 0, "--reference-data", flags.reference_data,
+                     "not with --write-commands, which runs nothing: run the commands, then "
+                     "--report-only --reference-data DIR gathers the finished runs");
+  if (!flags.reference_data.empty() && std::filesystem::exists(flags.reference_data) &&
+      !std::filesystem::is_directory(flags.reference_data))
+    throw InputError("command line", 0, "--reference-data", flags.reference_data,
+                     "a folder (created if needed), not a file");
   if (!flags.write_commands.empty() && flags.jobs_given)
     throw InputError("command line", 0, "--jobs", std::to_string(flags.jobs),
                      "not with --write-commands, which runs nothing (GNU parallel's -j says how "
@@ -152,6 +161,7 @@ void run_centrifuge_study_command(const CentrifugeStudyFlags& flags) {
   options.python = flags.python;
   options.analysis = analysis_option(flags.analysis);
   options.jobs = flags.jobs;
+  options.reference_data = flags.reference_data;
   if (flags.jobs > 1 || !flags.write_commands.empty()) options.program = this_program();
   fmt::print(
       "pilempm study centrifuge: cases from {}/, groups {}{} -> {}/\n", flags.cases,
@@ -289,6 +299,12 @@ void register_study_commands(CLI::App& app) {
                    "parallel or a Slurm job array; then --report-only gathers them "
                    "(docs/centrifuge.md)")
       ->type_name("FILE");
+  centrifuge
+      ->add_option("--reference-data", centrifuge_flags->reference_data,
+                   "after the report, write the chosen groups' finished runs as a reference data "
+                   "set into DIR: each case file, its curves of force against travel as CSV, and "
+                   "README.md (docs/data/README.md; the set written there before is replaced)")
+      ->type_name("DIR");
   centrifuge->add_flag("--no-plots", centrifuge_flags->no_plots, "draw no PNG files");
   centrifuge->add_flag("--quiet", centrifuge_flags->quiet, "no progress lines on stderr");
   add_overwrite_flag(*centrifuge, centrifuge_flags->overwrite);

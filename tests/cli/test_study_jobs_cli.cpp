@@ -294,6 +294,22 @@ TEST_F(CentrifugeStudyJobsCli, AnalysisFlagRunsEveryCaseOnItInProcessAndAsChildr
   r = run_pilempm(flags + " --jobs 2 --out " + quoted(jobs_qs), 600);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   expect_serial_results(jobs_qs, serial_qs);
+  // Their reference data say which analysis ran, in README.md and atop each case file.
+  const fs::path data = *dir_ / "qs-data";
+  r = run_pilempm(
+      flags + " --report-only --out " + quoted(serial_qs) + " --reference-data " + quoted(data),
+      120);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string readme = read_text(data / "README.md");
+  for (const std::string& c : kCases) {
+    EXPECT_NE(readme.find("`" + c + ".csv` | quasi-static, load step 0.025 D | 2, 2 |"),
+              std::string::npos)
+        << readme;
+    EXPECT_EQ(read_text(data / (c + ".toml")),
+              "# Run on the quasi-static analysis (`pilempm centrifuge run " + c +
+                  ".toml --analysis quasi-static`), whatever [solver] analysis says below.\n" +
+                  read_text(*dir_ / "cases" / (c + ".toml")));
+  }
 
   const fs::path commands = *dir_ / "qs-commands.txt";
   r = run_pilempm(
@@ -309,6 +325,87 @@ TEST_F(CentrifugeStudyJobsCli, AnalysisFlagRunsEveryCaseOnItInProcessAndAsChildr
 
 // The command list without running anything: --resume leaves out the finished runs, a folder
 // with runs is refused without --resume or --overwrite, every path is absolute.
+// The lines of a CSV file but its comments.
+std::vector<std::string> data_lines(const fs::path& file) {
+  std::vector<std::string> lines;
+  std::istringstream in(read_text(file));
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line.front() != '#') lines.push_back(line);
+  return lines;
+}
+
+// The cells of column `name` of a CSV file, as written.
+std::vector<std::string> column_text(const fs::path& file, const std::string& name) {
+  const std::vector<std::string> lines = data_lines(file);
+  std::vector<std::string> cells;
+  if (lines.empty()) return cells;
+  const std::vector<std::string> header = split(lines.front(), ',');
+  const auto at = std::find(header.begin(), header.end(), name);
+  if (at == header.end()) return cells;
+  for (std::size_t k = 1; k < lines.size(); ++k)
+    cells.push_back(split(lines[k], ',').at(std::size_t(at - header.begin())));
+  return cells;
+}
+
+TEST_F(CentrifugeStudyJobsCli, ReferenceDataHoldEachFinishedRunsCaseAndCurvesAsWritten) {
+  // The serial study without its last run, gathered by --report-only into a data set.
+  const fs::path study = *dir_ / "reference_study", data = *dir_ / "reference_data";
+  fs::copy(serial(), study, fs::copy_options::recursive);
+  fs::remove_all(study / kCases.back());
+  fs::create_directories(data);
+  std::ofstream(data / "notes.txt") << "a user's own file\n";
+  Result r = run_pilempm(
+      study_flags() + " --report-only --out " + quoted(study) + " --reference-data " + quoted(data),
+      120);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("reference data of 3 runs"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("not run: " + kCases.back() + ".toml"), std::string::npos) << r.output;
+  const std::string readme = read_text(data / "README.md");
+  // The columns: pile.csv's but those of the explicit analysis's dynamics.
+  std::vector<std::string> columns = split(data_lines(study / kCases[0] / "pile.csv")[0], ',');
+  for (const std::string dynamic :
+       {"kinetic_J", "pile_work_J", "sand_momentum_rate_N", "damping_force_N"}) {
+    const auto at = std::find(columns.begin(), columns.end(), dynamic);
+    ASSERT_NE(at, columns.end()) << dynamic;
+    columns.erase(at);
+  }
+  EXPECT_EQ(columns.size(), 14U);
+  for (std::size_t k = 0; k + 1 < kCases.size(); ++k) {
+    const fs::path csv = data / (kCases[k] + ".csv"), pile = study / kCases[k] / "pile.csv";
+    // The case file as the run read it, one row per row of the run's pile.csv, the kept
+    // columns' cells exactly as written there.
+    EXPECT_EQ(read_text(data / (kCases[k] + ".toml")),
+              read_text(*dir_ / "cases" / (kCases[k] + ".toml")));
+    const std::vector<std::string> lines = data_lines(csv);
+    ASSERT_FALSE(lines.empty()) << csv;
+    EXPECT_EQ(lines.front(), join(columns, ','));
+    EXPECT_EQ(lines.size(), data_lines(pile).size());
+    for (const std::string& name : columns) {
+      EXPECT_EQ(column_text(csv, name), column_text(pile, name)) << kCases[k] << " " << name;
+      EXPECT_NE(readme.find("`" + name), std::string::npos) << name << " is not described";
+    }
+    EXPECT_GE(column_text(csv, "head_force_N").size(), 5U);
+    // The README's row: the label, the files, the analysis and the head force of summary.csv.
+    const std::string label = "| IGS " + std::to_string(k + 1) + " | `" + kCases[k] + ".toml`, `" +
+                              kCases[k] + ".csv` | explicit, jacking at 0.025 m/s | 2, 2 |";
+    EXPECT_NE(readme.find(label), std::string::npos) << label << "\n" << readme;
+  }
+  EXPECT_FALSE(fs::exists(data / (kCases.back() + ".csv")));
+  EXPECT_NE(readme.find("| IGS 4 | not run"), std::string::npos) << readme;
+
+  // Gathered again with another run missing: the set is replaced (the first run's files go),
+  // the user's own file stays.
+  fs::remove_all(study / kCases.front());
+  r = run_pilempm(
+      study_flags() + " --report-only --out " + quoted(study) + " --reference-data " + quoted(data),
+      120);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_FALSE(fs::exists(data / (kCases.front() + ".csv")));
+  EXPECT_FALSE(fs::exists(data / (kCases.front() + ".toml")));
+  EXPECT_TRUE(fs::exists(data / (kCases[1] + ".csv")));
+  EXPECT_EQ(read_text(data / "notes.txt"), "a user's own file\n");
+}
+
 TEST(StudyCommandList, ResumeLeavesOutFinishedRunsAndEveryPathIsAbsolute) {
   const fs::path dir =
       fs::temp_directory_path() / ("pilempm-study-command-list-" + std::to_string(::getpid()));
@@ -370,7 +467,8 @@ TEST(StudyJobsFlags, BadValuesAndCombinationsAreRefusedNamingTheFlag) {
   for (const Refused& c : std::vector<Refused>{
            {"--jobs 2 --report-only", "--jobs", "--report-only"},
            {"--write-commands x.txt --report-only", "--write-commands", "--report-only"},
-           {"--write-commands x.txt --jobs 2", "--jobs", "--write-commands"}}) {
+           {"--write-commands x.txt --jobs 2", "--jobs", "--write-commands"},
+           {"--write-commands x.txt --reference-data d", "--reference-data", "--write-commands"}}) {
     const Result r = run_pilempm(study + " " + c.flags, 60);
     EXPECT_EQ(r.exit_code, 2) << c.flags << "\n" << r.output;
     EXPECT_NE(r.output.find("pilempm: error: command line: " + c.named), std::string::npos)

@@ -20,6 +20,7 @@
 #include "pilempm/study/figures.hpp"
 #include "pilempm/study/plotting.hpp"
 #include "pilempm/study/process_pool.hpp"
+#include "pilempm/study/reference_data.hpp"
 
 namespace pilempm {
 
@@ -381,6 +382,39 @@ std::vector<CentrifugeStudyFailure> run_as_children(
   return unfinished;
 }
 
+// The reference data set of the chosen groups' runs (CentrifugeStudyOptions::reference_data):
+// each case file once, with the labels it has in those groups.
+void write_reference_data(const CentrifugeStudyOptions& options,
+                          const std::filesystem::path& out_dir,
+                          const std::vector<const CentrifugeStudyGroup*>& groups,
+                          const std::vector<std::string>& files, std::ostream* progress) {
+  std::vector<ReferenceDataRun> runs;
+  for (std::size_t k = 0; k < files.size(); ++k) {
+    ReferenceDataRun run{files[k], {}};
+    for (const CentrifugeStudyGroup* g : groups)
+      for (const CentrifugeStudyCase& c : g->cases)
+        if (c.file == files[k] &&
+            std::find(run.labels.begin(), run.labels.end(), c.label) == run.labels.end())
+          run.labels.push_back(c.label);
+    runs.push_back(std::move(run));
+  }
+  OutputFolderOptions folder;
+  folder.overwrite = true;  // the set is replaced as a whole
+  const OutputFolderClaim claim = claim_output_folder(options.reference_data, folder);
+  const ReferenceDataReport report =
+      write_centrifuge_reference_data(out_dir, runs, options.reference_data, options.analysis);
+  if (progress != nullptr)
+    *progress << fmt::format(
+        "study: reference data of {} run{} in {}/ ({}{}{})\n", report.written.size(),
+        report.written.size() == 1 ? "" : "s", options.reference_data.string(),
+        report.readme.filename().string(),
+        report.missing.empty() ? std::string()
+                               : fmt::format("; not run: {}", fmt::join(report.missing, ", ")),
+        claim.removed_files.empty() ? std::string()
+                                    : fmt::format("; {} files of the set written before replaced",
+                                                  claim.removed_files.size()));
+}
+
 }  // namespace
 
 const std::vector<CentrifugeStudyGroup>& centrifuge_study_groups() {
@@ -580,6 +614,8 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
   for (const FigureSpec& f : figures) readme += fmt::format("`{}` ", f.file);
   readme += "(drawn by `/usr/bin/python3 plot_figures.py figures.json` in this folder).\n";
   write_file_atomically(out_dir / "README.md", readme);
+  if (!options.reference_data.empty())
+    write_reference_data(options, out_dir, groups, files, progress);
   if (options.plots && !figures.empty()) {
     const PlotOutcome plots =
         draw_figures(out_dir / "plot_figures.py", out_dir / "figures.json", options.python);

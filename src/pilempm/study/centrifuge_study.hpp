@@ -51,6 +51,10 @@ struct CentrifugeStudyOptions {
   /// The analysis of every run whatever its case file's `[solver] analysis` says (`--analysis`;
   /// the child runs and the command list get it too); none: each case file's own.
   std::optional<simulation::MpmAnalysis> analysis;
+  /// Where the reference data set of the chosen groups' finished runs goes after the report
+  /// (`--reference-data`; study/reference_data.hpp): the folder is taken for it (the files of
+  /// the set written there before are replaced); empty: none.
+  std::filesystem::path reference_data;
 };
 
 /// A run of the study that failed its own checks (scenario/centrifuge/run_checks.hpp), or, with
