@@ -301,6 +301,13 @@ TEST_F(CentrifugeStudyJobsCli, AnalysisFlagRunsEveryCaseOnItInProcessAndAsChildr
       120);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   const std::string readme = read_text(data / "README.md");
+  EXPECT_NE(readme.find("Made by `pilempm study centrifuge --out qs-serial --cases "),
+            std::string::npos)
+      << readme;
+  EXPECT_NE(readme.find(" --groups igs --analysis quasi-static` and then the same with "
+                        "`--report-only --reference-data DIR`"),
+            std::string::npos)
+      << readme;
   for (const std::string& c : kCases) {
     EXPECT_NE(readme.find("`" + c + ".csv` | quasi-static, load step 0.025 D | 2, 2 |"),
               std::string::npos)

@@ -382,6 +382,21 @@ std::vector<CentrifugeStudyFailure> run_as_children(
   return unfinished;
 }
 
+// "pilempm study centrifuge --out DIR [--groups ...] [--analysis ...]": how the study's runs
+// were asked for (the cases folder only where it is not the default).
+std::string study_command(const CentrifugeStudyOptions& options,
+                          const std::filesystem::path& out_dir) {
+  std::filesystem::path out = out_dir.lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();  // "runs/ref/"
+  std::string command = "pilempm study centrifuge --out " + out.filename().string();
+  if (options.cases_dir != CentrifugeStudyOptions{}.cases_dir)
+    command += " --cases " + options.cases_dir.string();
+  if (!options.groups.empty())
+    command += fmt::format(" --groups {}", fmt::join(options.groups, ","));
+  if (options.analysis) command += fmt::format(" --analysis {}", to_string(*options.analysis));
+  return command;
+}
+
 // The reference data set of the chosen groups' runs (CentrifugeStudyOptions::reference_data):
 // each case file once, with the labels it has in those groups.
 void write_reference_data(const CentrifugeStudyOptions& options,
@@ -401,8 +416,8 @@ void write_reference_data(const CentrifugeStudyOptions& options,
   OutputFolderOptions folder;
   folder.overwrite = true;  // the set is replaced as a whole
   const OutputFolderClaim claim = claim_output_folder(options.reference_data, folder);
-  const ReferenceDataReport report =
-      write_centrifuge_reference_data(out_dir, runs, options.reference_data, options.analysis);
+  const ReferenceDataReport report = write_centrifuge_reference_data(
+      out_dir, runs, options.reference_data, options.analysis, study_command(options, out_dir));
   if (progress != nullptr)
     *progress << fmt::format(
         "study: reference data of {} run{} in {}/ ({}{}{})\n", report.written.size(),

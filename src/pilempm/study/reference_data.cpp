@@ -10,6 +10,7 @@
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
 #include "pilempm/io/output/atomic_file.hpp"
+#include "pilempm/io/toml_reader.hpp"
 #include "pilempm/study/centrifuge_run.hpp"
 #include "pilempm/study/csv_table.hpp"
 
@@ -40,7 +41,8 @@ std::vector<std::string> split_cells(const std::string& line) {
   }
 }
 
-// The kept columns of a run's pile.csv, each row's cells as written there (no rounding).
+// The kept columns of a run's pile.csv (the whole file, a centrifuge run writes a few hundred
+// rows), each row's cells as written there (no rounding).
 std::string curves_csv(const std::filesystem::path& pile_csv) {
   std::istringstream in(read_whole(pile_csv));
   std::vector<std::size_t> take;
@@ -110,9 +112,11 @@ const std::vector<std::string>& reference_data_columns() {
   return columns;
 }
 
-ReferenceDataReport write_centrifuge_reference_data(
-    const std::filesystem::path& study_dir, const std::vector<ReferenceDataRun>& runs,
-    const std::filesystem::path& data_dir, std::optional<simulation::MpmAnalysis> analysis) {
+ReferenceDataReport write_centrifuge_reference_data(const std::filesystem::path& study_dir,
+                                                    const std::vector<ReferenceDataRun>& runs,
+                                                    const std::filesystem::path& data_dir,
+                                                    std::optional<simulation::MpmAnalysis> analysis,
+                                                    const std::string& command) {
   ReferenceDataReport report;
   std::optional<scenario::CentrifugeScenario> first;  // the test's size from the first run
   std::string table =
@@ -133,7 +137,7 @@ ReferenceDataReport write_centrifuge_reference_data(
       continue;
     }
     const NumericTable summary = read_numeric_csv(dir / "summary.csv");
-    const std::string case_text = read_whole(dir / "case.toml");
+    const std::string case_text = read_case_text(dir / "case.toml");
     const scenario::CentrifugeScenario s =
         read_centrifuge_case_text(case_text, (dir / "case.toml").string(), analysis);
     if (!first) first = s;
@@ -174,6 +178,14 @@ ReferenceDataReport write_centrifuge_reference_data(
       utc_date(), study_dir.string(),
       1000.0 * (first ? first->pile_diameter : scenario::CentrifugeScenario{}.pile_diameter),
       first ? first->g_level : scenario::CentrifugeScenario{}.g_level);
+  if (!command.empty())
+    readme += fmt::format(
+        "Made by `{}` and then the same with `--report-only --reference-data "
+        "DIR`.\n\n",
+        command);
+  readme +=
+      "These are results at the mesh and load step (or jacking speed) given for each run below; "
+      "how much they move with either is in pilempm's docs/verification.md §8.\n\n";
   readme +=
       "## The columns of `<case>.csv`\n\n"
       "| column | unit | what |\n|---|---|---|\n"

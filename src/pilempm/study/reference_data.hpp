@@ -34,11 +34,13 @@ const std::vector<std::string>& reference_data_columns();
 /// case file as the run read it, DIR/<stem>/case.toml), <stem>.csv and README.md, for the runs
 /// of `study_dir` that finished (their summary.csv and pile.csv exist). `analysis`: the analysis
 /// the study gave every run (`--analysis`; the case files' own where none), which README.md and
-/// a comment atop each case file state. Throws Error naming the file and line when a case file,
-/// pile.csv or summary.csv cannot be read or lacks a column.
+/// a comment atop each case file state; `command`: the study's command, which README.md quotes.
+/// Throws Error naming the file and line when a case file, pile.csv or summary.csv cannot be read
+/// or lacks a column.
 ReferenceDataReport write_centrifuge_reference_data(
     const std::filesystem::path& study_dir, const std::vector<ReferenceDataRun>& runs,
     const std::filesystem::path& data_dir,
-    std::optional<simulation::MpmAnalysis> analysis = std::nullopt);
+    std::optional<simulation::MpmAnalysis> analysis = std::nullopt,
+    const std::string& command = "");
 
 }  // namespace pilempm
