@@ -386,9 +386,7 @@ std::vector<CentrifugeStudyFailure> run_as_children(
 // were asked for (the cases folder only where it is not the default).
 std::string study_command(const CentrifugeStudyOptions& options,
                           const std::filesystem::path& out_dir) {
-  std::filesystem::path out = out_dir.lexically_normal();
-  if (out.filename().empty()) out = out.parent_path();  // "runs/ref/"
-  std::string command = "pilempm study centrifuge --out " + out.filename().string();
+  std::string command = "pilempm study centrifuge --out " + reference_folder_name(out_dir);
   if (options.cases_dir != CentrifugeStudyOptions{}.cases_dir)
     command += " --cases " + options.cases_dir.string();
   if (!options.groups.empty())

@@ -100,6 +100,12 @@ std::string utc_date() {
 
 }  // namespace
 
+std::string reference_folder_name(const std::filesystem::path& dir) {
+  std::filesystem::path name = dir.lexically_normal();
+  if (name.filename().empty()) name = name.parent_path();  // "runs/ref/"
+  return name.filename().string();
+}
+
 const std::vector<std::string>& reference_data_columns() {
   static const std::vector<std::string> columns = [] {
     const std::vector<std::string> dynamic{"kinetic_J", "pile_work_J", "sand_momentum_rate_N",
@@ -175,7 +181,7 @@ ReferenceDataReport write_centrifuge_reference_data(const std::filesystem::path&
       "and load test. The test (docs/study.md): a pile of diameter D = {:g} mm with a 60° cone "
       "jacked at {:g} g into sand in a cylindrical container, axisymmetric; forces are of the "
       "full pile at model scale.\n\n",
-      utc_date(), study_dir.string(),
+      utc_date(), reference_folder_name(study_dir),
       1000.0 * (first ? first->pile_diameter : scenario::CentrifugeScenario{}.pile_diameter),
       first ? first->g_level : scenario::CentrifugeScenario{}.g_level);
   if (!command.empty())

@@ -26,6 +26,10 @@ struct ReferenceDataReport {
   std::filesystem::path readme;
 };
 
+/// The last part of a folder's path ("runs/ref/" gives "ref"): how README.md names the study
+/// folder, without the machine's paths.
+std::string reference_folder_name(const std::filesystem::path& dir);
+
 /// The columns of pile.csv that the set keeps, in its order (those of the explicit analysis's
 /// dynamics, kinetic energy, momentum and damping, are left out).
 const std::vector<std::string>& reference_data_columns();
