@@ -124,6 +124,20 @@ void check_how_to_run(const CentrifugeStudyFlags& flags) {
       !std::filesystem::is_directory(flags.reference_data))
     throw InputError("command line", 0, "--reference-data", flags.reference_data,
                      "a folder (created if needed), not a file");
+  if (!flags.reference_data.empty()) {
+    // The set replaces what it wrote before: it must not share a folder with the study's runs.
+    const auto inside = [](const std::filesystem::path& a, const std::filesystem::path& b) {
+      const std::filesystem::path relative = a.lexically_relative(b);
+      return !relative.empty() && *relative.begin() != "..";
+    };
+    const std::filesystem::path data = std::filesystem::weakly_canonical(flags.reference_data);
+    const std::filesystem::path out = std::filesystem::weakly_canonical(flags.out);
+    if (inside(data, out) || inside(out, data))
+      throw InputError("command line", 0, "--reference-data", flags.reference_data,
+                       fmt::format("a folder apart from the study's --out {} (neither it, nor "
+                                   "inside it, nor above it)",
+                                   flags.out));
+  }
   if (!flags.write_commands.empty() && flags.jobs_given)
     throw InputError("command line", 0, "--jobs", std::to_string(flags.jobs),
                      "not with --write-commands, which runs nothing (GNU parallel's -j says how "

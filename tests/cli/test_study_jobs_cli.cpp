@@ -482,6 +482,15 @@ TEST(StudyJobsFlags, BadValuesAndCombinationsAreRefusedNamingTheFlag) {
         << r.output;
     EXPECT_NE(r.output.find("not with " + c.other), std::string::npos) << r.output;
   }
+  // The reference data set apart from the study's folder.
+  for (const fs::path& data : {out, out / "data", out.parent_path()}) {
+    const Result r = run_pilempm(study + " --report-only --reference-data " + quoted(data), 60);
+    EXPECT_EQ(r.exit_code, 2) << data << "\n" << r.output;
+    EXPECT_NE(r.output.find("pilempm: error: command line: --reference-data"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("a folder apart from the study's --out"), std::string::npos)
+        << r.output;
+  }
   EXPECT_FALSE(fs::exists(out));
   const Result help = run_pilempm("study centrifuge --help");
   EXPECT_NE(help.output.find("--jobs"), std::string::npos);
