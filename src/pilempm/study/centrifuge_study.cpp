@@ -145,13 +145,6 @@ std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
   return figures;
 }
 
-std::string cell(const NumericTable& t, const std::string& column, const char* format,
-                 double scale = 1.0) {
-  if (!t.has(column) || t.rows() == 0) return "-";
-  const double v = t.column(column).back();
-  return shown_number(scale * v, format);
-}
-
 // The run's own checks from the numbers of its summary.csv (a run kept by --resume is judged
 // the same as a new one); a column that is missing reads as NaN.
 std::vector<CentrifugeCheck> checks_of(const NumericTable& t) {
@@ -317,8 +310,8 @@ std::string summary_words(const std::filesystem::path& summary) {
     const NumericTable t = read_numeric_csv(summary);
     const std::vector<CentrifugeCheck> failed = failed_checks(checks_of(t));
     return fmt::format(
-        ": head force {} N, capacity {} N{}", cell(t, "installation_head_force_N", "{:.1f}"),
-        cell(t, "load_test_capacity_N", "{:.1f}"),
+        ": head force {} N, capacity {} N{}", table_cell(t, "installation_head_force_N", "{:.1f}"),
+        table_cell(t, "load_test_capacity_N", "{:.1f}"),
         failed.empty() ? std::string() : fmt::format(", FAILED {} of its checks", failed.size()));
   } catch (const Error& e) {
     return fmt::format("; its summary cannot be read: {}", e.what());
@@ -403,7 +396,10 @@ void write_reference_data(const CentrifugeStudyOptions& options,
                           const std::vector<std::string>& files, std::ostream* progress) {
   std::vector<ReferenceDataRun> runs;
   for (std::size_t k = 0; k < files.size(); ++k) {
-    ReferenceDataRun run{files[k], {}};
+    ReferenceDataRun run{files[k], {}, 0};
+    const std::filesystem::path summary = out_dir / stem(files[k]) / "summary.csv";
+    if (std::filesystem::exists(summary))  // judged as README.md judges it
+      run.failed_checks = int(failed_checks(checks_of(read_numeric_csv(summary))).size());
     for (const CentrifugeStudyGroup* g : groups)
       for (const CentrifugeStudyCase& c : g->cases)
         if (c.file == files[k] &&
@@ -607,13 +603,14 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
       }
       const NumericTable t = read_numeric_csv(file);
       const std::vector<CentrifugeCheck> failed = failed_checks(checks_of(t));
-      readme += fmt::format(
-          "| {} | `{}` | {} | {} | {} | {} | {} | {} | {} | {} |\n", c.label, c.file,
-          cell(t, "installation_head_force_N", "{:.1f}"), cell(t, "peak_tip_stress_MPa", "{:.2f}"),
-          cell(t, "load_test_capacity_N", "{:.1f}"), cell(t, "scatter_last_D", "{:.2f}", 100.0),
-          cell(t, "equilibrium_error", "{:.2f}", 100.0),
-          cell(t, "max_kinetic_to_work", "{:.3f}", 100.0), cell(t, "wall_time_s", "{:.0f}"),
-          checks_cell(failed));
+      readme += fmt::format("| {} | `{}` | {} | {} | {} | {} | {} | {} | {} | {} |\n", c.label,
+                            c.file, table_cell(t, "installation_head_force_N", "{:.1f}"),
+                            table_cell(t, "peak_tip_stress_MPa", "{:.2f}"),
+                            table_cell(t, "load_test_capacity_N", "{:.1f}"),
+                            table_cell(t, "scatter_last_D", "{:.2f}", 100.0),
+                            table_cell(t, "equilibrium_error", "{:.2f}", 100.0),
+                            table_cell(t, "max_kinetic_to_work", "{:.3f}", 100.0),
+                            table_cell(t, "wall_time_s", "{:.0f}"), checks_cell(failed));
       if (!failed.empty() && !listed_already(failures, c.file, true)) {
         CentrifugeStudyFailure failure{c.file, {}, "", {}};
         for (const CentrifugeCheck& check : failed) failure.checks.push_back(check.text());

@@ -9,12 +9,11 @@
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/core/number_text.hpp"
+#include "pilempm/io/output/format.hpp"
 
 namespace pilempm {
 
-namespace {
-
-std::vector<std::string> split_line(std::string_view line) {
+std::vector<std::string> split_csv_line(std::string_view line) {
   std::vector<std::string> cells;
   std::size_t begin = 0;
   while (true) {
@@ -27,7 +26,11 @@ std::vector<std::string> split_line(std::string_view line) {
   return cells;
 }
 
-}  // namespace
+std::string table_cell(const NumericTable& t, const std::string& column, const char* format,
+                       double scale) {
+  if (!t.has(column) || t.rows() == 0) return "-";
+  return shown_number(scale * t.column(column).back(), format);
+}
 
 NumericTable::NumericTable(std::string source, std::vector<std::string> columns)
     : source_(std::move(source)), columns_(std::move(columns)), values_(columns_.size()) {}
@@ -65,7 +68,7 @@ NumericTable parse_numeric_csv(std::string_view text, const std::string& source)
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     if (line.empty() || line.front() == '#') continue;
-    const std::vector<std::string> cells = split_line(line);
+    const std::vector<std::string> cells = split_csv_line(line);
     if (!have_header) {
       table = NumericTable(source, cells);
       have_header = true;

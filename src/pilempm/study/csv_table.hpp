@@ -28,6 +28,14 @@ class NumericTable {
   std::vector<std::vector<double>> values_;  ///< by column
 };
 
+/// The cells of one CSV line (split at every comma; no quoting, as pilempm writes them).
+std::vector<std::string> split_csv_line(std::string_view line);
+
+/// The last value of `column` of `t` written with `format` (shown_number) after scaling, or "-"
+/// when the column is missing or empty: a cell of a Markdown table of runs.
+std::string table_cell(const NumericTable& t, const std::string& column, const char* format,
+                       double scale = 1.0);
+
 /// Parses CSV text; `source` names it in messages ("file:line: ..."). Throws Error.
 NumericTable parse_numeric_csv(std::string_view text, const std::string& source);
 /// Reads and parses a CSV file. Throws Error.

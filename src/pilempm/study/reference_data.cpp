@@ -30,17 +30,6 @@ std::string read_whole(const std::filesystem::path& path) {
   return text.str();
 }
 
-std::vector<std::string> split_cells(const std::string& line) {
-  std::vector<std::string> cells;
-  std::size_t begin = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', begin);
-    cells.push_back(line.substr(begin, comma == std::string::npos ? comma : comma - begin));
-    if (comma == std::string::npos) return cells;
-    begin = comma + 1;
-  }
-}
-
 // The kept columns of a run's pile.csv (the whole file, a centrifuge run writes a few hundred
 // rows), each row's cells as written there (no rounding).
 std::string curves_csv(const std::filesystem::path& pile_csv) {
@@ -55,7 +44,7 @@ std::string curves_csv(const std::filesystem::path& pile_csv) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line.front() == '#') continue;
-    const std::vector<std::string> cells = split_cells(line);
+    const std::vector<std::string> cells = split_csv_line(line);
     if (take.empty()) {  // the header
       for (const std::string& name : reference_data_columns()) {
         const auto it = std::find(cells.begin(), cells.end(), name);
@@ -75,12 +64,6 @@ std::string curves_csv(const std::filesystem::path& pile_csv) {
   }
   if (take.empty()) throw Error(fmt::format("{}: no header line", pile_csv.string()));
   return out;
-}
-
-std::string summary_cell(const NumericTable& t, const char* column, const char* format,
-                         double scale = 1.0) {
-  if (!t.has(column) || t.rows() == 0) return "–";
-  return fmt::format(fmt::runtime(format), scale * t.column(column).front());
 }
 
 std::string analysis_words(const scenario::CentrifugeScenario& s) {
@@ -155,20 +138,19 @@ ReferenceDataReport write_centrifuge_reference_data(const std::filesystem::path&
                                 to_string(*analysis), stem, to_string(*analysis))
                   : std::string()) +
             case_text);
-    const double failed =
-        summary.has("checks_failed") ? summary.column("checks_failed").front() : 0.0;
     table += fmt::format(
         "| {} | `{}.toml`, `{}.csv` | {} | {:g}, {} | {} | {} | {} ({}) | {} | {} ({}) | {} | {} "
         "|\n",
         labels, stem, stem, analysis_words(s), s.cells_per_D, s.particles_per_cell,
-        summary_cell(summary, "particles", "{:.0f}"), summary_cell(summary, "steps", "{:.0f}"),
-        summary_cell(summary, "installation_head_force_N", "{:.1f}"),
-        summary_cell(summary, "installation_tip_depth_D", "{:.2f}"),
-        summary_cell(summary, "peak_tip_stress_MPa", "{:.2f}"),
-        summary_cell(summary, "load_test_capacity_N", "{:.1f}"),
-        summary_cell(summary, "load_test_displacement_mm", "{:.3g}"),
-        summary_cell(summary, "scatter_last_D", "{:.2f}", 100.0),
-        failed > 0.0 ? fmt::format("**FAILED** {:.0f}", failed) : std::string("PASS"));
+        table_cell(summary, "particles", "{:.0f}"), table_cell(summary, "steps", "{:.0f}"),
+        table_cell(summary, "installation_head_force_N", "{:.1f}"),
+        table_cell(summary, "installation_tip_depth_D", "{:.2f}"),
+        table_cell(summary, "peak_tip_stress_MPa", "{:.2f}"),
+        table_cell(summary, "load_test_capacity_N", "{:.1f}"),
+        table_cell(summary, "load_test_displacement_mm", "{:.3g}"),
+        table_cell(summary, "scatter_last_D", "{:.2f}", 100.0),
+        run.failed_checks > 0 ? fmt::format("**FAILED** {}", run.failed_checks)
+                              : std::string("PASS"));
     report.written.push_back(run.file);
   }
 

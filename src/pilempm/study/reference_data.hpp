@@ -18,6 +18,7 @@ namespace pilempm {
 struct ReferenceDataRun {
   std::string file;                 ///< e.g. "md_original.toml"
   std::vector<std::string> labels;  ///< e.g. {"medium dense, original", "MPM-2 ..."}
+  int failed_checks = 0;            ///< of the run's own checks, as the study judges them
 };
 
 struct ReferenceDataReport {
