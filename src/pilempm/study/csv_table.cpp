@@ -92,12 +92,16 @@ NumericTable parse_numeric_csv(std::string_view text, const std::string& source)
   return table;
 }
 
-NumericTable read_numeric_csv(const std::filesystem::path& path) {
+std::string read_csv_text(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(fmt::format("cannot read {}", path.string()));
   std::ostringstream text;
   text << in.rdbuf();
-  return parse_numeric_csv(text.str(), path.string());
+  return text.str();
+}
+
+NumericTable read_numeric_csv(const std::filesystem::path& path) {
+  return parse_numeric_csv(read_csv_text(path), path.string());
 }
 
 }  // namespace pilempm

@@ -38,6 +38,8 @@ std::string table_cell(const NumericTable& t, const std::string& column, const c
 
 /// Parses CSV text; `source` names it in messages ("file:line: ..."). Throws Error.
 NumericTable parse_numeric_csv(std::string_view text, const std::string& source);
+/// The whole text of a CSV file. Throws Error naming it when it cannot be read.
+std::string read_csv_text(const std::filesystem::path& path);
 /// Reads and parses a CSV file. Throws Error.
 NumericTable read_numeric_csv(const std::filesystem::path& path);
 

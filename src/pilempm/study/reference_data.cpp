@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <ctime>
-#include <fstream>
 #include <sstream>
 
 #include "pilempm/core/error.hpp"
@@ -22,18 +21,10 @@ std::string stem_of(const std::string& file) {
   return std::filesystem::path(file).stem().string();
 }
 
-std::string read_whole(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(fmt::format("{}: cannot be read", path.string()));
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
 // The kept columns of a run's pile.csv (the whole file, a centrifuge run writes a few hundred
 // rows), each row's cells as written there (no rounding).
 std::string curves_csv(const std::filesystem::path& pile_csv) {
-  std::istringstream in(read_whole(pile_csv));
+  std::istringstream in(read_csv_text(pile_csv));
   std::vector<std::size_t> take;
   std::string out =
       "# pilempm reference data: the pile's forces against travel (columns: docs/data/README.md "
