@@ -252,5 +252,34 @@ TEST(Particles, FillRectangleGivesVolumeMassAndSizes) {
   EXPECT_THROW(fill_rectangle(plane, grid, Geometry::plane_strain, fill), InvalidValue);
 }
 
+// limit_volume_ratio: the volume ratio J = det F (· λ_θ in axisymmetry) brought down to the
+// limit by an isotropic scaling, the shape F / J^(1/3) (plane strain: F / J^(1/2)) kept; a J at
+// or below the limit, or a compressed particle, untouched.
+TEST(Particles, LimitVolumeRatioScalesToTheLimitAndKeepsTheShape) {
+  Mat2 sheared;
+  sheared << 30.0, 12.0, -4.0, 20.0;  // J = 648 in plane strain
+  for (const bool axisymmetric : {false, true}) {
+    Mat2 f = sheared;
+    double hoop = axisymmetric ? 1.8 : 1.0;
+    const double j0 = f.determinant() * hoop;
+    const double dimensions = axisymmetric ? 3.0 : 2.0;
+    const Mat2 shape = sheared / std::pow(j0, 1.0 / dimensions);
+    ASSERT_TRUE(limit_volume_ratio(f, hoop, 1.5, axisymmetric));
+    EXPECT_NEAR(f.determinant() * hoop, 1.5, 1e-12);
+    EXPECT_LT((f / std::pow(1.5, 1.0 / dimensions) - shape).norm(), 1e-12);
+    if (!axisymmetric) {
+      EXPECT_EQ(hoop, 1.0);  // plane strain keeps F_33 = 1
+    }
+    // At the limit and below it nothing changes.
+    const Mat2 at_limit = f;
+    EXPECT_FALSE(limit_volume_ratio(f, hoop, 1.5, axisymmetric));
+    EXPECT_EQ(f, at_limit);
+    Mat2 compressed = 0.5 * Mat2::Identity();
+    double one = 1.0;
+    EXPECT_FALSE(limit_volume_ratio(compressed, one, 1.5, axisymmetric));
+    EXPECT_EQ(compressed, Mat2(0.5 * Mat2::Identity()));
+  }
+}
+
 }  // namespace
 }  // namespace pilempm::mpm

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include <Eigen/SVD>
@@ -149,6 +150,40 @@ TEST(QuasiStaticColumn, AxisymmetricSelfWeightInOneStepConvergesWithOrder) {
   check_column(Geometry::axisymmetric);
 }
 
+// One load step to 1 g of an elastic column's `particles` on `grid` (SparseLU): whether it
+// converged, the condition number of its Newton matrix (dense SVD), the base reaction's error
+// against the weight, and the highest particle at the end [m].
+struct GravityStep {
+  bool converged = false;
+  std::string message;
+  double condition = 0.0;
+  double reaction_error = 0.0;  // |R_y - W| / W
+  double top = 0.0;
+};
+
+GravityStep one_gravity_step(Grid grid, Particles particles, Settings settings) {
+  double weight = 0.0;
+  for (std::size_t p = 0; p < particles.size(); ++p) weight += particles.mass[p] * 9.81;
+  settings.linear_solver = LinearSolverKind::sparse_lu;
+  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  LoadStep load;
+  load.gravity_multiplier = 1.0;
+  const LoadStepResult step = solver.solve_step(load);
+  GravityStep result;
+  result.converged = step.converged;
+  result.message = step.message;
+  const Eigen::MatrixXd dense(solver.last_matrix());
+  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(dense);
+  const auto& sigma = svd.singularValues();
+  result.condition = sigma(0) / sigma(sigma.size() - 1);
+  result.reaction_error = std::abs(solver.boundary_reaction().y() - weight) / weight;
+  result.top = -1.0;
+  for (std::size_t p = 0; p < solver.particles().size(); ++p)
+    result.top = std::max(result.top, solver.particles().position[p].y());
+  return result;
+}
+
 // Stabilisation of weakly supported nodes: the column's particles are lifted by a small fraction
 // of a cell, so that the top layer's domains reach a row of nodes by that fraction only. Without
 // ghost springs those nodes make the Newton matrix nearly singular (their equations carry
@@ -167,30 +202,15 @@ LiftedColumn lifted_column(double ghost_stiffness, double lift) {
   Grid grid = column_grid(cells);
   Particles particles = test_support::particle_block(
       grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
-  double weight = 0.0;
-  for (std::size_t p = 0; p < particles.size(); ++p) {
-    particles.position[p].y() += lift * h;
-    weight += particles.mass[p] * 9.81;
-  }
+  for (std::size_t p = 0; p < particles.size(); ++p) particles.position[p].y() += lift * h;
   Settings settings;
   settings.ghost_stiffness = ghost_stiffness;
-  settings.linear_solver = LinearSolverKind::sparse_lu;
-  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
-  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
-  LoadStep load;
-  load.gravity_multiplier = 1.0;
-  const LoadStepResult step = solver.solve_step(load);
+  const GravityStep step = one_gravity_step(std::move(grid), std::move(particles), settings);
   EXPECT_TRUE(step.converged) << step.message;
   LiftedColumn result;
-  const Eigen::MatrixXd dense(solver.last_matrix());
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(dense);
-  const auto& sigma = svd.singularValues();
-  result.condition = sigma(0) / sigma(sigma.size() - 1);
-  result.reaction_error = std::abs(solver.boundary_reaction().y() - weight) / weight;
-  double top = -1.0;
-  for (std::size_t p = 0; p < solver.particles().size(); ++p)
-    top = std::max(top, solver.particles().position[p].y());
-  result.settlement = kHeight - 0.25 * h + lift * h - top;
+  result.condition = step.condition;
+  result.reaction_error = step.reaction_error;
+  result.settlement = kHeight - 0.25 * h + lift * h - step.top;
   return result;
 }
 
@@ -211,6 +231,45 @@ TEST(QuasiStaticStabilisation, GhostSpringsBoundTheConditionWithoutLosingLoad) {
   std::printf("settlement closed form %.6e m\n", exact);
   EXPECT_NEAR(ghost.settlement, exact, 5e-3 * exact);
   EXPECT_LE(std::abs(ghost.settlement - exact), std::abs(bare.settlement - exact));
+}
+
+// Settings::support_particles on the elastic column (8 cells, plane strain) with one more
+// particle above its top, its domain two cells wide: it alone reaches the three nodes of the
+// grid row above the column (4 unknowns beside the walls) and has 3 strain components, so the
+// Newton matrix is singular whatever the particle's stiffness. The support measure
+// (support_threshold) passes these nodes (the particle covers a good part of their volume);
+// counting the particles that reach a node ties them by ghost springs to the column, and the
+// load step converges with the weight on the base (the springs act between nodes).
+GravityStep column_with_lone_particle(int support_particles) {
+  const int cells = 8;
+  const double h = kHeight / cells;
+  Grid grid = column_grid(cells);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  // One particle (a sub-cell's volume and mass) above the column, its domain [0, 2h] across
+  // and a quarter of a cell deep: x-weights 1/4, 1/2, 1/4 at the three nodes of each row (the
+  // middle one without an x-gradient), enough for the support measure.
+  fill_rectangle(particles, grid, Geometry::plane_strain,
+                 test_support::block_fill(0.5 * h, h, kHeight + 0.5 * h, kHeight + h, kDensity));
+  particles.position.back() = Vec2(h, kHeight + 0.75 * h);
+  particles.half_size.back() = Vec2(h, 0.25 * h);
+  particles.initial_half_size.back() = particles.half_size.back();
+  Settings settings;
+  settings.support_particles = support_particles;
+  return one_gravity_step(std::move(grid), std::move(particles), settings);
+}
+
+TEST(QuasiStaticStabilisation, NodesThatOneParticleAloneReachesAreTiedByGhostSprings) {
+  const GravityStep bare = column_with_lone_particle(0);
+  const GravityStep counted = column_with_lone_particle(3);
+  std::printf(
+      "lone particle: condition %.2e without counting the particles, %.2e with; "
+      "reaction error %.1e\n",
+      bare.condition, counted.condition, counted.reaction_error);
+  EXPECT_GT(bare.condition, 1.0e12);  // singular to round-off
+  ASSERT_TRUE(counted.converged) << counted.message;
+  EXPECT_LT(counted.condition, 1.0e8);
+  EXPECT_LT(counted.reaction_error, 1e-8);
 }
 
 // Settings::low_stress_stiffness on the elastic column (8 cells, plane strain) loaded from zero

@@ -65,6 +65,20 @@ inline Vec2 stretched_half_size(const Vec2& initial_half_size, const Mat2& defor
                                              (left_cauchy_green(1, 1) + root_det) * scale));
 }
 
+/// Scales a particle's deformation isotropically so that its volume ratio J = det F · λ_θ (the
+/// hoop stretch λ_θ in axisymmetry; plane strain keeps it at 1 and scales F alone) is at most
+/// `ratio`; the shape (F / J^(1/3), or / J^(1/2) in plane strain) is kept. Returns whether it
+/// scaled. For sand on the stress floor (quasi_static::Settings::floor_volume_ratio).
+inline bool limit_volume_ratio(Mat2& deformation_gradient, double& hoop_stretch, double ratio,
+                               bool axisymmetric) {
+  const double j = deformation_gradient.determinant() * (axisymmetric ? hoop_stretch : 1.0);
+  if (!(j > ratio * (1.0 + 1e-12))) return false;  // at the limit to round-off: left alone
+  const double scale = axisymmetric ? std::cbrt(ratio / j) : std::sqrt(ratio / j);
+  deformation_gradient *= scale;
+  if (axisymmetric) hoop_stretch *= scale;
+  return true;
+}
+
 /// A rectangle to fill with particles, n_x × n_y per grid cell.
 struct RectangleFill {
   double x_min = 0.0, x_max = 0.0, y_min = 0.0, y_max = 0.0;  ///< [m]

@@ -85,6 +85,11 @@ void Settings::validate() const {
     throw InvalidValue("support_threshold", format_value(support_threshold), "in [0, 1)");
   if (!(ghost_stiffness >= 0.0) || !std::isfinite(ghost_stiffness))
     throw InvalidValue("ghost_stiffness", format_value(ghost_stiffness), ">= 0");
+  if (support_particles < 0)
+    throw InvalidValue("support_particles", std::to_string(support_particles), ">= 0");
+  if (!(floor_volume_ratio == 0.0 || floor_volume_ratio > 1.0) ||
+      !std::isfinite(floor_volume_ratio))
+    throw InvalidValue("floor_volume_ratio", format_value(floor_volume_ratio), "0 (none) or > 1");
   if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0");
   if (linear_solver == LinearSolverKind::umfpack && !umfpack_available())
     throw InvalidValue("linear_solver", "umfpack", "sparse-lu (this build has no UMFPACK)");
@@ -598,6 +603,9 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     Mat2& deformation = p.deformation_gradient[i];
     deformation = (Mat2::Identity() + trial.gradient[i]) * deformation;
     p.out_of_plane_stretch[i] *= 1.0 + trial.hoop[i];
+    if (settings_.floor_volume_ratio > 0.0 && trial.on_floor[i] != 0)
+      limit_volume_ratio(deformation, p.out_of_plane_stretch[i], settings_.floor_volume_ratio,
+                         settings_.geometry == Geometry::axisymmetric);
     p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];
     // cpGIMP: the domain follows the stretch, as in the explicit solver.
     if (stretch_domains) p.half_size[i] = stretched_half_size(p.initial_half_size[i], deformation);

@@ -135,8 +135,21 @@ struct Settings {
   /// domain gets, in the Newton matrix only, an isotropic elastic stiffness (ν = 0.3) of this
   /// fraction of the constrained modulus of its converged state. A zero tangent would leave the
   /// nodes such particles alone support without stiffness (the matrix singular); the full
-  /// modulus made a push step take 450 iterations instead of 20 (docs/quasi-static.md).
+  /// modulus made a push step take 450 iterations instead of 20 (docs/quasi-static.md). The
+  /// modulus is the larger of the particle's and its material's reference (the contact's
+  /// penalty modulus, fixed at the first load step): a stress-free hypoplastic particle's own
+  /// modulus is a thousandth of the sand's at depth, and the nodes it alone reaches had next to
+  /// no stiffness (docs/quasi-static.md, "Stress-free sand").
   double floor_stiffness = 1.0e-3;
+  /// A particle whose update ends on the stress floor keeps a volume ratio J = V / V_0 of at
+  /// most this: above it, its deformation gradient and hoop stretch are scaled isotropically
+  /// to it (limit_volume_ratio). Sand without stress is loose grains; as a continuum it opened
+  /// without bound where Newton iterates pulled its nodes apart (beside the IGS case's pile, a
+  /// particle at the heaved surface reached J = 870, its domain 13 x 34 cells, and the nodes it
+  /// reached were thrown, docs/quasi-static.md). The default lies above the volume ratio that
+  /// hypoplastic sand reaches while it carries stress (its void ratio bounded by e_i).
+  /// 0: no limit.
+  double floor_volume_ratio = 1.5;
   /// Low-stress stabilisation. Sand that has lost its stress (behind a pile's shoulder, along
   /// its shaft) has almost no stiffness, and where such particles alone support a node, Newton's
   /// method has nothing to hold the node's motion (the full model MPM-2 stalled so at 3 D,
@@ -177,6 +190,13 @@ struct Settings {
   /// node's equation away from singular. ghost_stiffness = 0: none.
   double support_threshold = 0.05;
   double ghost_stiffness = 1.0e-3;
+  /// A node reached by fewer than this many particles is weak as well, with the weakness
+  /// 1 − n / support_particles (the larger of the two counts), and is tied by ghost springs to
+  /// its neighbours of lower weakness and, once per pair, of the same: the nodes that one
+  /// particle alone reaches have more unknowns than it has strain components (the Newton matrix
+  /// singular), and a large particle's volume can pass the support measure above (beside the
+  /// IGS case's pile, docs/quasi-static.md). 0: the support measure alone.
+  int support_particles = 3;
   /// UMFPACK where the build has it (about 3 times faster on the pile problem,
   /// docs/quasi-static.md).
   LinearSolverKind linear_solver =

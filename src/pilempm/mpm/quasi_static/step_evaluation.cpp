@@ -31,13 +31,15 @@ Mat6 isotropic_stiffness(double constrained_modulus) {
 // update `state` (from `rotated` over `strain`) with respect to the strain.
 void material_tangent(const ConstitutiveModel& model, const MaterialState& converged,
                       const MaterialState& rotated, const MaterialState& state, const Vec6& strain,
-                      bool on_floor, const SubstepPath& path, const Settings& settings,
-                      bool axisymmetric, Mat4& d) {
+                      bool on_floor, double reference_modulus, const SubstepPath& path,
+                      const Settings& settings, bool axisymmetric, Mat4& d) {
   // On the stress floor the integrated update does not change with the strain (a zero
   // derivative would leave the nodes such particles alone support without stiffness): a small
-  // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only.
+  // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only, of the
+  // material's reference modulus (a stress-free hypoplastic particle's own is 10⁻³ of it).
   const auto elastic_fallback = [&] {
-    d = in_plane(isotropic_stiffness(settings.floor_stiffness * model.wave_modulus(converged)));
+    d = in_plane(isotropic_stiffness(settings.floor_stiffness *
+                                     std::max(model.wave_modulus(converged), reference_modulus)));
   };
   if (on_floor) {
     elastic_fallback();
@@ -202,6 +204,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     Mat4& d = trial.tangent[std::size_t(i)];
     d.setZero();
     material_tangent(model, p.state[std::size_t(i)], rotated, state, strain, on_floor,
+                     contact_modulus_[std::size_t(p.material[std::size_t(i)])],
                      trial.path[std::size_t(i)], settings_, axisymmetric, d);
     if (low_modulus > 0.0) d += in_plane(low_stiffness);
     // The spin terms (Settings::spin_terms): ∂σ/∂w = (∂σ/∂σ_start) ∂(R σ_n Rᵀ)/∂w with

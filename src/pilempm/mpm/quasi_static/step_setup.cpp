@@ -20,14 +20,17 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
   const bool axisymmetric = settings_.geometry == Geometry::axisymmetric;
   setup.nodes.resize(count);
   std::vector<double> support(std::size_t(nodes), 0.0);
+  std::vector<int> reached_by(std::size_t(nodes), 0);  // particles with a weight at the node
   for (std::size_t i = 0; i < count; ++i) {
     Stencil stencil;
     compute_stencil(grid_, settings_.shape_function, p.position[i].x(), p.position[i].y(),
                     p.half_size[i].x(), p.half_size[i].y(), stencil);
     flatten(stencil, nx, setup.nodes[i]);
     const ParticleNodes& pn = setup.nodes[i];
-    for (int k = 0; k < pn.count; ++k)
+    for (int k = 0; k < pn.count; ++k) {
       support[std::size_t(pn.node[k])] += pn.weight[k] * p.volume[i];
+      if (pn.weight[k] > 0.0) ++reached_by[std::size_t(pn.node[k])];
+    }
   }
   // Every node a particle reaches carries the unknowns of its free components; the weakly
   // supported ones get ghost springs to their better supported neighbours.
@@ -43,7 +46,9 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
   setup.dof.assign(2 * std::size_t(nodes), -1);
   setup.unknowns = 0;
   setup.ghosts.clear();
-  std::vector<double> weakness(std::size_t(nodes), 0.0);  // 1 - s_i / (threshold v_i), or 0
+  // The larger of 1 - s_i / (threshold v_i) and 1 - n_i / support_particles, or 0.
+  std::vector<double> weakness(std::size_t(nodes), 0.0);
+  const int fewest = settings_.support_particles;
   const auto& free_x = grid_.free_x();
   const auto& free_y = grid_.free_y();
   for (int j = 0; j < grid_.ny(); ++j)
@@ -57,6 +62,9 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
       const double limit = settings_.support_threshold * own;
       if (support[std::size_t(n)] < limit)
         weakness[std::size_t(n)] = 1.0 - support[std::size_t(n)] / limit;
+      if (reached_by[std::size_t(n)] < fewest)
+        weakness[std::size_t(n)] =
+            std::max(weakness[std::size_t(n)], 1.0 - double(reached_by[std::size_t(n)]) / fewest);
       setup.active[std::size_t(n)] = 1;
       if (free_x[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n)] = setup.unknowns++;
       if (free_y[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n) + 1] = setup.unknowns++;
@@ -74,8 +82,10 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
         for (const auto& ij : neighbours) {
           if (ij[0] < 0 || ij[0] >= nx || ij[1] < 0 || ij[1] >= grid_.ny()) continue;
           const int m = grid_.node_index(ij[0], ij[1]);
-          if (!setup.active[std::size_t(m)] || weakness[std::size_t(m)] >= weakness[std::size_t(n)])
-            continue;
+          // Towards better support, and once between equally weak neighbours (a group of
+          // nodes that one particle alone reaches is tied together as well as to the rest).
+          const double theirs = weakness[std::size_t(m)], mine = weakness[std::size_t(n)];
+          if (!setup.active[std::size_t(m)] || theirs > mine || (theirs == mine && m < n)) continue;
           setup.ghosts.push_back({n, m, k});
         }
       }
