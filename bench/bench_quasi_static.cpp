@@ -110,6 +110,8 @@ void apply_environment(Settings& settings) {
   if (const char* v = std::getenv("QS_SMOOTHING")) settings.contact.smoothing = std::atof(v);
   if (const char* v = std::getenv("QS_TURNING")) settings.contact.turning_terms = std::atoi(v) != 0;
   if (const char* v = std::getenv("QS_SPIN")) settings.spin_terms = std::atoi(v) != 0;
+  if (const char* v = std::getenv("QS_TANGENT"))  // "perturbation": not the model's own
+    if (std::string(v) == "perturbation") settings.tangent = TangentKind::perturbation;
   if (const char* v = std::getenv("QS_TANGENTIAL_RATIO"))
     settings.contact.tangential_ratio = std::atof(v);
 }

@@ -96,6 +96,18 @@ class ConstitutiveModel {
   /// (rate-independent models with a direction-dependent tangent need the direction).
   virtual Mat6 tangent(const MaterialState& state, const Vec6& strain_direction) const = 0;
 
+  /// The derivative of update(state, strain_increment)'s stress with respect to the increment
+  /// (the consistent tangent of the integrated update, Mandel) into `tangent`, where the model
+  /// has it in closed form; false where it has not, and the caller differentiates the update
+  /// (the quasi-static analysis's Newton matrix). None by default.
+  virtual bool consistent_tangent(const MaterialState& state, const Vec6& strain_increment,
+                                  Mat6& tangent) const {
+    (void)state;
+    (void)strain_increment;
+    (void)tangent;
+    return false;
+  }
+
   /// Upper bound of the constrained (P-wave) modulus at the state [Pa], for the critical time step.
   virtual double wave_modulus(const MaterialState& state) const = 0;
 

@@ -51,6 +51,11 @@ Mat6 LinearElastic::tangent(const MaterialState&, const Vec6&) const {
   return stiffness_;
 }
 
+bool LinearElastic::consistent_tangent(const MaterialState&, const Vec6&, Mat6& tangent) const {
+  tangent = stiffness_;
+  return true;
+}
+
 double LinearElastic::wave_modulus(const MaterialState&) const {
   return parameters_.bulk_modulus() + 4.0 / 3.0 * parameters_.shear_modulus();
 }

@@ -22,6 +22,9 @@ class LinearElastic final : public ConstitutiveModel {
   std::string name() const override { return "linear-elastic"; }
   UpdateResult update(MaterialState& state, const Vec6& strain_increment) const override;
   Mat6 tangent(const MaterialState& state, const Vec6& strain_direction) const override;
+  /// Its stiffness: the update is linear.
+  bool consistent_tangent(const MaterialState& state, const Vec6& strain_increment,
+                          Mat6& tangent) const override;
   double wave_modulus(const MaterialState& state) const override;
 
  private:

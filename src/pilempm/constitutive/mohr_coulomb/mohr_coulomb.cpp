@@ -132,11 +132,13 @@ MohrCoulomb::PrincipalReturn MohrCoulomb::return_principal(const Vec3& s) const 
   if (cutoff_active_) scale = std::max(scale, tension_cutoff_);
 
   double best_violation = std::numeric_limits<double>::infinity();
-  auto consider = [&](const Vec3& returned, ReturnRegion region, double candidate_violation) {
+  auto consider = [&](const Vec3& returned, ReturnRegion region, unsigned active,
+                      double candidate_violation) {
     if (!(candidate_violation < best_violation)) return false;
     best_violation = candidate_violation;
     out.stress = returned;
     out.region = region;
+    out.active = active;
     return candidate_violation <= kAcceptTolerance;
   };
 
@@ -147,7 +149,7 @@ MohrCoulomb::PrincipalReturn MohrCoulomb::return_principal(const Vec3& s) const 
     const Vec3 returned = s - multiplier * p.stiffness_flow;
     const double bad = std::max(violation(returned, 1u << i, scale),
                                 -multiplier * p.stiffness_flow.norm() / scale);
-    return consider(returned, region, bad);
+    return consider(returned, region, 1u << i, bad);
   };
   // Return to the line where planes i and j meet: s - dl_i D b_i - dl_j D b_j with f_i = f_j = 0.
   auto line_return = [&](int i, int j, ReturnRegion region) {
@@ -163,7 +165,7 @@ MohrCoulomb::PrincipalReturn MohrCoulomb::return_principal(const Vec3& s) const 
     double bad = violation(returned, (1u << i) | (1u << j), scale);
     bad = std::max(bad, -multiplier[0] * p.stiffness_flow.norm() / scale);
     bad = std::max(bad, -multiplier[1] * q.stiffness_flow.norm() / scale);
-    return consider(returned, region, bad);
+    return consider(returned, region, (1u << i) | (1u << j), bad);
   };
   // Return to a corner point where the listed planes meet.
   auto point_return = [&](const Vec3& corner, std::initializer_list<int> active,
@@ -173,7 +175,7 @@ MohrCoulomb::PrincipalReturn MohrCoulomb::return_principal(const Vec3& s) const 
     const double bad = std::max(
         violation(corner, mask, scale),
         cone_violation(s - corner, active.begin(), static_cast<int>(active.size()), scale));
-    return consider(corner, region, bad);
+    return consider(corner, region, mask, bad);
   };
 
   using R = ReturnRegion;
@@ -193,6 +195,7 @@ MohrCoulomb::PrincipalReturn MohrCoulomb::return_principal(const Vec3& s) const 
     // Every trial stress that no other return accepts belongs to the apex (see the header).
     out.stress = Vec3::Constant(apex_);
     out.region = R::apex;
+    out.active = 0b111u;
     return out;
   }
   out.consistent = false;  // keep the candidate with the smallest violation
@@ -240,6 +243,70 @@ UpdateResult MohrCoulomb::update(MaterialState& state, const Vec6& strain_increm
   plastic_shear_strain(state) += plastic_shear;
   result.substeps = 1;
   return result;
+}
+
+bool MohrCoulomb::consistent_tangent(const MaterialState& state, const Vec6& strain_increment,
+                                     Mat6& tangent) const {
+  const Vec6 trial = state.stress + stiffness_ * strain_increment;
+  Eigen::SelfAdjointEigenSolver<Mat3> spectral(to_matrix(trial));
+  if (spectral.info() != Eigen::Success) return false;
+  const Vec3 ascending = spectral.eigenvalues();
+  const Vec3 sorted(ascending[2], ascending[1], ascending[0]);
+  const PrincipalReturn returned = return_principal(sorted);
+  if (!returned.consistent) return false;
+  if (returned.region == ReturnRegion::elastic) {
+    tangent = stiffness_;
+    return true;
+  }
+  // The return's derivative in principal space, dσ_i/dσ^tr_j.
+  Mat3 principal = Mat3::Zero();
+  int count = 0;
+  int planes[kPlanes];
+  for (int i = 0; i < kPlanes; ++i)
+    if (returned.active & (1u << i)) planes[count++] = i;
+  if (count <= 2) {
+    Eigen::Matrix<double, 3, Eigen::Dynamic> normals(3, count), stiffness_flows(3, count);
+    for (int k = 0; k < count; ++k) {
+      normals.col(k) = planes_[planes[k]].normal;
+      stiffness_flows.col(k) = planes_[planes[k]].stiffness_flow;
+    }
+    const Eigen::MatrixXd coupling = normals.transpose() * stiffness_flows;  // Aᵀ D B
+    principal =
+        Mat3::Identity() - stiffness_flows * coupling.partialPivLu().solve(normals.transpose());
+  }  // a corner or the apex: the returned stress does not move
+  // The eigenvectors in the order of `sorted` (the solver's columns ascend).
+  Mat3 n;
+  for (int i = 0; i < 3; ++i) n.col(i) = spectral.eigenvectors().col(2 - i);
+  const double scale = std::max(sorted.cwiseAbs().maxCoeff(), strength_) + 1.0;
+  // The spin terms' factors (σ_i − σ_j) / (σ^tr_i − σ^tr_j), their limit where the trial
+  // eigenvalues meet.
+  double spin[3][3] = {};
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j) {
+      const double gap = sorted[i] - sorted[j];
+      spin[i][j] =
+          std::abs(gap) > 1.0e-10 * scale
+              ? (returned.stress[i] - returned.stress[j]) / gap
+              : 0.5 * (principal(i, i) - principal(i, j) - principal(j, i) + principal(j, j));
+    }
+  // dσ/dσ^tr column by column on the Mandel basis E, then times the elastic stiffness.
+  Mat6 derivative;
+  for (int c = 0; c < 6; ++c) {
+    const Mat3 e = to_matrix(Vec6::Unit(c));
+    Vec3 normal_part;
+    for (int j = 0; j < 3; ++j) normal_part[j] = n.col(j).dot(e * n.col(j));
+    const Vec3 principal_change = principal * normal_part;
+    Mat3 change = Mat3::Zero();
+    for (int i = 0; i < 3; ++i) {
+      change += principal_change[i] * n.col(i) * n.col(i).transpose();
+      for (int j = i + 1; j < 3; ++j)
+        change += spin[i][j] * n.col(i).dot(e * n.col(j)) *
+                  (n.col(i) * n.col(j).transpose() + n.col(j) * n.col(i).transpose());
+    }
+    derivative.col(c) = from_matrix(change);
+  }
+  tangent = derivative * stiffness_;
+  return true;
 }
 
 Mat6 MohrCoulomb::tangent(const MaterialState&, const Vec6&) const {

@@ -81,6 +81,9 @@ class MohrCoulomb final : public ConstitutiveModel {
   struct PrincipalReturn {
     Vec3 stress = Vec3::Zero();  ///< returned principal stresses, same order as the trial
     ReturnRegion region = ReturnRegion::elastic;
+    /// The planes the returned stress lies on (bit i: plane i of f(1,3), f(2,3), f(1,2), ft(1),
+    /// ft(2), ft(3)); 0 for an elastic trial.
+    unsigned active = 0;
     /// False only if no candidate return passed its checks (not expected; the one with the
     /// smallest violation was taken).
     bool consistent = true;
@@ -93,6 +96,14 @@ class MohrCoulomb final : public ConstitutiveModel {
   /// The elastic stiffness, whatever the state and direction (not the elastoplastic tangent: the
   /// callers use it as a first guess and for the time step, where the elastic one is the bound).
   Mat6 tangent(const MaterialState& state, const Vec6& strain_direction) const override;
+  /// The consistent tangent of update(): the elastic stiffness, then the derivative of the return
+  /// in principal space (I − D B (Aᵀ D B)⁻¹ Aᵀ on the active planes A with flows B, 0 at a
+  /// corner or apex), turned into the general space with the spin of the eigenvectors (the
+  /// isotropic tensor function's derivative; de Souza Neto, Perić & Owen 2008, Computational
+  /// Methods for Plasticity, §8.3 and appendix A). False where the return found no consistent
+  /// candidate.
+  bool consistent_tangent(const MaterialState& state, const Vec6& strain_increment,
+                          Mat6& tangent) const override;
   /// K + 4G/3.
   double wave_modulus(const MaterialState& state) const override;
   /// "plastic_shear_strain" (a scalar).

@@ -45,7 +45,8 @@ namespace pilempm::mpm::quasi_static {
 
 /// Which material tangent the Newton matrix uses.
 enum class TangentKind {
-  automatic,     ///< the model's tangent for linear elasticity, perturbation for the others
+  automatic,     ///< the model's consistent tangent where it has one in closed form (linear
+                 ///< elasticity, Mohr-Coulomb), perturbation for the others
   perturbation,  ///< forward differences of the integrated update, for every model
   elastic,       ///< the model's tangent(state, Δε) (for Mohr-Coulomb the elastic one: modified
                  ///< Newton, linear convergence)

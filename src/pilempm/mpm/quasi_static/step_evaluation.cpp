@@ -46,11 +46,15 @@ void material_tangent(const ConstitutiveModel& model, const MaterialState& conve
     return;
   }
   const TangentKind kind = settings.tangent;
-  const bool analytic =
-      kind == TangentKind::elastic ||
-      (kind == TangentKind::automatic && dynamic_cast<const LinearElastic*>(&model) != nullptr);
-  if (analytic) {
+  if (kind == TangentKind::elastic) {
     d = in_plane(model.tangent(state, strain));
+    return;
+  }
+  // The model's own consistent tangent where it has one in closed form (linear elasticity,
+  // Mohr-Coulomb), from the same start as the update.
+  Mat6 consistent;
+  if (kind == TangentKind::automatic && model.consistent_tangent(rotated, strain, consistent)) {
+    d = in_plane(consistent);
     return;
   }
   // Fellin & Ostermann (2002): forward differences of the integrated update, the probes along
