@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -270,6 +271,18 @@ TEST(QuasiStaticStabilisation, NodesThatOneParticleAloneReachesAreTiedByGhostSpr
   ASSERT_TRUE(counted.converged) << counted.message;
   EXPECT_LT(counted.condition, 1.0e8);
   EXPECT_LT(counted.reaction_error, 1e-8);
+  // The counts and the stress-free sand's volume bound out of range are refused.
+  Settings settings;
+  settings.support_particles = -1;
+  EXPECT_THROW(settings.validate(), InvalidValue);
+  settings.support_particles = 0;
+  EXPECT_NO_THROW(settings.validate());
+  for (const double ratio : {1.0, 0.5, -1.0, std::numeric_limits<double>::infinity()}) {
+    settings.floor_volume_ratio = ratio;
+    EXPECT_THROW(settings.validate(), InvalidValue) << ratio;
+  }
+  settings.floor_volume_ratio = 0.0;  // no bound
+  EXPECT_NO_THROW(settings.validate());
 }
 
 // Settings::low_stress_stiffness on the elastic column (8 cells, plane strain) loaded from zero
