@@ -300,7 +300,7 @@ void register_study_commands(CLI::App& app) {
                        "keep the runs of an earlier call whose summary.csv exists");
   centrifuge->add_flag("--report-only", centrifuge_flags->report_only,
                        "run nothing: write README.md and the figures of the runs that exist "
-                       "(a group is drawn when all its runs exist)");
+                       "(a group's figures draw its runs that exist)");
   CLI::Option* jobs = centrifuge->add_option(
       "--jobs", centrifuge_flags->jobs,
       fmt::format("runs at once, each a child process on one thread (default 1: one after the "

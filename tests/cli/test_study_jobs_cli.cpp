@@ -101,7 +101,7 @@ std::string readme_without_wall_time(const std::string& readme) {
 }
 
 // Every CSV file of the study's case folders (their path in the study folder: content), and
-// figures.json when all cases are asked for (a group with runs missing has no figure);
+// figures.json when all cases are asked for (a group with runs missing draws fewer);
 // summary.csv and a quasi-static run's load_steps.csv without their times.
 std::map<std::string, std::string> study_results(const fs::path& study,
                                                  const std::vector<std::string>& cases = kCases) {
@@ -205,6 +205,19 @@ TEST_F(CentrifugeStudyJobsCli, RunsThatFailAreNamedWithExitCodeAndLogTheOthersFi
                         "`logs/igs2_small.log`)"),
             std::string::npos)
       << readme;
+  // The group's figures draw the two runs that finished and name the two that did not: two field
+  // panels side by side instead of four, two head-force curves.
+  EXPECT_NE(readme.find("its figures draw the 2 of 4 that did"), std::string::npos) << readme;
+  const std::string figures = read_text(out / "figures.json");
+  for (const char* run : {"igs1_small", "igs3_small"}) {
+    EXPECT_NE(figures.find(std::string(run) + "/pile.csv"), std::string::npos) << figures;
+    EXPECT_NE(figures.find(std::string(run) + "/fields_installation.csv"), std::string::npos)
+        << figures;
+  }
+  EXPECT_EQ(figures.find("igs2_small/"), std::string::npos) << figures;
+  EXPECT_EQ(figures.find("igs4_small/"), std::string::npos) << figures;
+  EXPECT_NE(figures.find("\"layout\": [1, 2]"), std::string::npos) << figures;
+  EXPECT_NE(figures.find("(without IGS 2, IGS 4: not finished)"), std::string::npos) << figures;
   expect_serial_results(out, serial(), {"igs1_small", "igs3_small"});
 
   // The way cleared, --resume runs only those two.

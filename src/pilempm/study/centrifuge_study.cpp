@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <set>
 
 #include "pilempm/core/error.hpp"
 #include "pilempm/io/centrifuge_case.hpp"
@@ -143,6 +144,34 @@ std::vector<FigureSpec> group_figures(const CentrifugeStudyGroup& group,
     figures.push_back(f);
   }
   return figures;
+}
+
+// A group's figures without the runs in `missing` (their folder names; each series reads a CSV
+// file of its run's folder): their curves are dropped, a panel left without curves is dropped
+// (a one-row figure narrows by its width), a figure left without panels is not drawn, and the
+// titles name the runs left out (`missing_labels`). Colours stay those of the whole group.
+std::vector<FigureSpec> without_runs(std::vector<FigureSpec> figures,
+                                     const std::set<std::string>& missing,
+                                     const std::vector<std::string>& missing_labels) {
+  if (missing.empty()) return figures;
+  const auto of_missing_run = [&missing](const SeriesSpec& series) {
+    const std::filesystem::path csv(series.csv);
+    return !csv.empty() && missing.count(csv.begin()->string()) > 0;
+  };
+  std::vector<FigureSpec> kept;
+  for (FigureSpec& f : figures) {
+    const std::size_t panels = f.panels.size();
+    for (PanelSpec& panel : f.panels) std::erase_if(panel.series, of_missing_run);
+    std::erase_if(f.panels, [](const PanelSpec& panel) { return panel.series.empty(); });
+    if (f.panels.empty()) continue;
+    if (f.rows == 1 && f.cols == static_cast<int>(panels) && f.panels.size() < panels) {
+      if (f.width_in > 0.0) f.width_in *= double(f.panels.size()) / double(panels);
+      f.cols = static_cast<int>(f.panels.size());
+    }
+    f.title += fmt::format("\n(without {}: not finished)", fmt::join(missing_labels, ", "));
+    kept.push_back(std::move(f));
+  }
+  return kept;
 }
 
 // The run's own checks from the numbers of its summary.csv (a run kept by --resume is judged
@@ -570,15 +599,26 @@ std::vector<CentrifugeStudyFailure> run_centrifuge_study(const CentrifugeStudyOp
         fmt::format("Every run: the {} analysis (`--analysis`), whatever its case file says.\n",
                     to_string(*options.analysis));
   for (const CentrifugeStudyGroup* g : groups) {
-    // A group is compared when all its runs exist (with report_only some may not).
-    const bool complete =
-        std::all_of(g->cases.begin(), g->cases.end(), [&](const CentrifugeStudyCase& c) {
-          return std::filesystem::exists(out_dir / stem(c.file) / "summary.csv");
-        });
-    if (complete)
-      for (FigureSpec& f : group_figures(*g, options.cases_dir)) figures.push_back(std::move(f));
+    // A group's figures draw the runs that finished (with report_only or after a failed run some
+    // may not have).
+    std::set<std::string> missing;
+    std::vector<std::string> missing_labels;
+    for (const CentrifugeStudyCase& c : g->cases)
+      if (!std::filesystem::exists(out_dir / stem(c.file) / "summary.csv")) {
+        missing.insert(stem(c.file));
+        missing_labels.push_back(c.label);
+      }
+    if (missing.size() < g->cases.size())
+      for (FigureSpec& f :
+           without_runs(group_figures(*g, options.cases_dir), missing, missing_labels))
+        figures.push_back(std::move(f));
     readme += fmt::format("\n## {}\n\n", g->title);
-    if (!complete) readme += "Not all runs of this group exist yet: no figure.\n\n";
+    if (missing.size() == g->cases.size())
+      readme += "No run of this group has finished: no figure.\n\n";
+    else if (!missing.empty())
+      readme += fmt::format(
+          "Not every run of this group finished: its figures draw the {} of {} that did.\n\n",
+          g->cases.size() - missing.size(), g->cases.size());
     readme +=
         "| run | case file | head force end of installation [N] | peak tip stress [MPa] | "
         "SLT capacity at 0.1 D [N] | head-force scatter over the last D [%] | equilibrium error "
