@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/SVD>
 
 #include "../support/mpm_builders.hpp"
@@ -283,6 +284,75 @@ TEST(QuasiStaticStabilisation, NodesThatOneParticleAloneReachesAreTiedByGhostSpr
   }
   settings.floor_volume_ratio = 0.0;  // no bound
   EXPECT_NO_THROW(settings.validate());
+}
+
+// Settings::inside_body_weakness on the elastic column (8 cells, plane strain, 2 cells wide)
+// lifted by 0.3 of a cell: the top particles' domains reach the grid row above the column, each
+// of its nodes reached by several of them and with 9 % of its volume as support (so neither the
+// support measure nor the count makes them weak), only with the tails of their shape functions.
+// A plate lies over that row, not touching the particles. With the nodes inside it weak, ghost
+// springs tie them to the column's top row: the Newton matrix gains a symmetric, positive
+// semi-definite part (springs between node pairs) and nothing else changes; the base still
+// carries the whole weight (the springs are internal).
+struct PlateColumn {
+  LoadStepResult step;
+  Eigen::MatrixXd matrix;
+  double reaction_error = 0.0;
+};
+
+PlateColumn column_under_plate(double inside_body_weakness) {
+  const int cells = 8;
+  const double h = kHeight / cells;
+  Grid grid = column_grid(cells);
+  Particles particles = test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  double weight = 0.0;
+  for (std::size_t p = 0; p < particles.size(); ++p) {
+    particles.position[p].y() += 0.3 * h;
+    weight += particles.mass[p] * 9.81;
+  }
+  Settings settings;
+  settings.inside_body_weakness = inside_body_weakness;
+  settings.linear_solver = LinearSolverKind::sparse_lu;
+  auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
+  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+  solver.add_rigid_body(RigidBody::polygon({{-1.0, kHeight + 0.5 * h},
+                                            {1.0, kHeight + 0.5 * h},
+                                            {1.0, kHeight + 3.0 * h},
+                                            {-1.0, kHeight + 3.0 * h}}));
+  LoadStep load;
+  load.gravity_multiplier = 1.0;
+  load.body_displacement = {Vec2::Zero()};
+  PlateColumn result;
+  result.step = solver.solve_step(load);
+  result.matrix = Eigen::MatrixXd(solver.last_matrix());
+  result.reaction_error = std::abs(solver.boundary_reaction().y() - weight) / weight;
+  return result;
+}
+
+TEST(QuasiStaticStabilisation, NodesInsideARigidBodyAreTiedByGhostSpringsWhenAsked) {
+  const PlateColumn free = column_under_plate(0.0);
+  const PlateColumn tied = column_under_plate(1.0);
+  ASSERT_TRUE(free.step.converged) << free.step.message;
+  ASSERT_TRUE(tied.step.converged) << tied.step.message;
+  ASSERT_EQ(free.matrix.rows(), tied.matrix.rows());
+  const Eigen::MatrixXd springs = tied.matrix - free.matrix;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eigen(springs);
+  std::printf(
+      "nodes inside a plate: springs' part of K %.3e of K, its eigenvalues %.3e to %.3e; "
+      "reaction error %.1e / %.1e\n",
+      springs.norm() / free.matrix.norm(), eigen.eigenvalues().minCoeff(),
+      eigen.eigenvalues().maxCoeff(), free.reaction_error, tied.reaction_error);
+  EXPECT_GT(springs.norm(), 1e-6 * free.matrix.norm());  // the springs are there
+  EXPECT_LT((springs - springs.transpose()).norm(), 1e-12 * springs.norm());
+  EXPECT_GT(eigen.eigenvalues().minCoeff(), -1e-9 * springs.norm());
+  EXPECT_LT(free.reaction_error, 1e-8);
+  EXPECT_LT(tied.reaction_error, 1e-8);
+  Settings settings;
+  for (const double w : {-0.1, 1.5, std::numeric_limits<double>::quiet_NaN()}) {
+    settings.inside_body_weakness = w;
+    EXPECT_THROW(settings.validate(), InvalidValue) << w;
+  }
 }
 
 // Settings::low_stress_stiffness on the elastic column (8 cells, plane strain) loaded from zero

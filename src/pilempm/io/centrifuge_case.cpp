@@ -184,9 +184,9 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
     for (const char* key :
          {"mass_scaling", "courant_number", "flip_fraction", "xpic_order", "local_damping"})
       refuse_explicit(*t, key);
-    for (const char* key :
-         {"displacement_step_D", "contact_smoothing", "force_tolerance", "energy_tolerance",
-          "stall_iterations", "low_stress_stiffness", "low_stress_pressure_Pa", "low_stress_use"})
+    for (const char* key : {"displacement_step_D", "contact_smoothing", "force_tolerance",
+                            "energy_tolerance", "stall_iterations", "low_stress_stiffness",
+                            "low_stress_pressure_Pa", "low_stress_use", "inside_body_weakness"})
       if (!quasi_static && t->contains(key))
         throw t->error(key, analysis ? "applies to analysis = \"quasi-static\" only (this case "
                                        "runs analysis = \"explicit\", set by --analysis)"
@@ -208,6 +208,8 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
     if (auto use = t->optional_choice("low_stress_use", {"last_resort", "every_step"}))
       s.low_stress_use = *use == "every_step" ? mpm::quasi_static::StabilisationUse::every_step
                                               : mpm::quasi_static::StabilisationUse::last_resort;
+    s.inside_body_weakness =
+        t->number_or("inside_body_weakness", s.inside_body_weakness, NumberRange::closed(0.0, 1.0));
     s.mass_scaling = t->number_or("mass_scaling", s.mass_scaling, NumberRange::at_least(1.0));
     s.courant_number =
         t->number_or("courant_number", s.courant_number, NumberRange::left_open(0.0, 1.0));

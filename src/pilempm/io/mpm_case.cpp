@@ -96,7 +96,8 @@ const std::vector<std::string> kQuasiStaticOnlyKeys = {"displacement_step_m",
                                                        "contact_smoothing",
                                                        "low_stress_stiffness",
                                                        "low_stress_use",
-                                                       "low_stress_pressure_Pa"};
+                                                       "low_stress_pressure_Pa",
+                                                       "inside_body_weakness"};
 
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
@@ -171,6 +172,8 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   if (auto use = solver->optional_choice("low_stress_use", {"last_resort", "every_step"}))
     q.low_stress_use = *use == "every_step" ? mpm::quasi_static::StabilisationUse::every_step
                                             : mpm::quasi_static::StabilisationUse::last_resort;
+  q.inside_body_weakness = solver->number_or("inside_body_weakness", q.inside_body_weakness,
+                                             NumberRange::closed(0.0, 1.0));
   solver->check_no_unknown_keys();
 }
 

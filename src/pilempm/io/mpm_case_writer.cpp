@@ -252,6 +252,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.text("low_stress_use", q.low_stress_use == mpm::quasi_static::StabilisationUse::every_step
                                ? "every_step"
                                : "last_resort");
+  if (q.inside_body_weakness > 0.0) t.number("inside_body_weakness", q.inside_body_weakness);
 }
 
 void write_integrator(TomlText& t, const IntegratorSettings& s) {

@@ -87,6 +87,8 @@ void Settings::validate() const {
     throw InvalidValue("ghost_stiffness", format_value(ghost_stiffness), ">= 0");
   if (support_particles < 0)
     throw InvalidValue("support_particles", std::to_string(support_particles), ">= 0");
+  if (!(inside_body_weakness >= 0.0 && inside_body_weakness <= 1.0))
+    throw InvalidValue("inside_body_weakness", format_value(inside_body_weakness), "in [0, 1]");
   if (!(floor_volume_ratio == 0.0 || floor_volume_ratio > 1.0) ||
       !std::isfinite(floor_volume_ratio))
     throw InvalidValue("floor_volume_ratio", format_value(floor_volume_ratio), "0 (none) or > 1");

@@ -198,6 +198,13 @@ struct Settings {
   /// singular), and a large particle's volume can pass the support measure above (beside the
   /// IGS case's pile, docs/quasi-static.md). 0: the support measure alone.
   int support_particles = 3;
+  /// The weakness w of a node inside a rigid body (its exact surface, at the sub-increment's
+  /// start), in [0, 1]: ghost springs of ghost_stiffness · M_i · w tie it to its neighbours
+  /// outside. The soil beside the body reaches such a node only with the tails of its shape
+  /// functions, yet its domain corners' contact forces act there. 0: none (the default; the
+  /// springs stiffen the cut cells beside the pile: docs/quasi-static.md, "Nodes inside a rigid
+  /// body").
+  double inside_body_weakness = 0.0;
   /// UMFPACK where the build has it (about 3 times faster on the pile problem,
   /// docs/quasi-static.md).
   LinearSolverKind linear_solver =

@@ -65,6 +65,15 @@ void QuasiStaticSolver::build_setup(StepSetup& setup) const {
       if (reached_by[std::size_t(n)] < fewest)
         weakness[std::size_t(n)] =
             std::max(weakness[std::size_t(n)], 1.0 - double(reached_by[std::size_t(n)]) / fewest);
+      // A node inside a rigid body has only the tails of the shape functions of the soil beside
+      // the body, yet the contact forces of that soil's domain corners reach it: it is weak.
+      if (settings_.inside_body_weakness > 0.0) {
+        const Vec2 at(grid_.x_axis().node(i), grid_.y_axis().node(j));
+        for (const RigidBody& body : bodies_)
+          if (body.signed_distance(at) < -1.0e-9 * grid_.min_spacing())
+            weakness[std::size_t(n)] =
+                std::max(weakness[std::size_t(n)], settings_.inside_body_weakness);
+      }
       setup.active[std::size_t(n)] = 1;
       if (free_x[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n)] = setup.unknowns++;
       if (free_y[std::size_t(n)] != 0.0) setup.dof[2 * std::size_t(n) + 1] = setup.unknowns++;

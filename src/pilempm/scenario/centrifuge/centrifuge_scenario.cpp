@@ -253,6 +253,7 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
     c.quasi_static.low_stress_stiffness = v(s.low_stress_stiffness);
     c.quasi_static.low_stress_pressure = v(s.low_stress_pressure_Pa);
     c.quasi_static.low_stress_use = s.low_stress_use;
+    c.quasi_static.inside_body_weakness = v(s.inside_body_weakness);
   } else {  // the explicit analysis's own settings (the quasi-static case keeps the defaults)
     solver.mass_scaling = v(s.mass_scaling);
     solver.courant_number = v(s.courant_number);

@@ -86,6 +86,10 @@ struct CentrifugeScenario {
   double low_stress_pressure_Pa = 100.0;
   mpm::quasi_static::StabilisationUse low_stress_use =
       mpm::quasi_static::StabilisationUse::last_resort;
+  /// Ghost springs for the grid nodes inside the pile (mpm::quasi_static::Settings::
+  /// inside_body_weakness; quasi-static analysis only): 0, none (the default; measured in
+  /// docs/quasi-static.md, "Nodes inside a rigid body").
+  double inside_body_weakness = 0.0;
 
   // The phases.
   double wished_in_place_D = 10.0;  ///< tip depth below the surface when the pile is put in
