@@ -59,13 +59,18 @@ Grid column_grid(int cells) {
   return grid;
 }
 
+// The plane-strain column's particles (2 × 2 a cell) on `grid` of cell size h.
+Particles column_particles(const Grid& grid, double h) {
+  return test_support::particle_block(
+      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+}
+
 // The plane-strain elastic column of `cells` cells (2 cells wide, walls and a fixed base) on a
 // solver with `settings`.
 std::unique_ptr<QuasiStaticSolver> elastic_column(int cells, const Settings& settings) {
   const double h = kHeight / cells;
   Grid grid = column_grid(cells);
-  Particles particles = test_support::particle_block(
-      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  Particles particles = column_particles(grid, h);
   auto model = std::make_shared<LinearElastic>(ElasticParameters{kYoung, kPoisson});
   return std::make_unique<QuasiStaticSolver>(std::move(grid), std::move(particles),
                                              std::vector<ModelPtr>{model}, settings);
@@ -202,8 +207,7 @@ LiftedColumn lifted_column(double ghost_stiffness, double lift) {
   const int cells = 8;
   const double h = kHeight / cells;
   Grid grid = column_grid(cells);
-  Particles particles = test_support::particle_block(
-      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  Particles particles = column_particles(grid, h);
   for (std::size_t p = 0; p < particles.size(); ++p) particles.position[p].y() += lift * h;
   Settings settings;
   settings.ghost_stiffness = ghost_stiffness;
@@ -246,8 +250,7 @@ GravityStep column_with_lone_particle(int support_particles) {
   const int cells = 8;
   const double h = kHeight / cells;
   Grid grid = column_grid(cells);
-  Particles particles = test_support::particle_block(
-      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  Particles particles = column_particles(grid, h);
   // One particle (a sub-cell's volume and mass) above the column, its domain [0, 2h] across
   // and a quarter of a cell deep: x-weights 1/4, 1/2, 1/4 at the three nodes of each row (the
   // middle one without an x-gradient), enough for the support measure.
@@ -304,8 +307,7 @@ PlateColumn column_under_plate(double inside_body_weakness) {
   const int cells = 8;
   const double h = kHeight / cells;
   Grid grid = column_grid(cells);
-  Particles particles = test_support::particle_block(
-      grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
+  Particles particles = column_particles(grid, h);
   double weight = 0.0;
   for (std::size_t p = 0; p < particles.size(); ++p) {
     particles.position[p].y() += 0.3 * h;
