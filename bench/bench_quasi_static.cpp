@@ -2,7 +2,7 @@
 // part (model updates with tangents, assembly, factorisation and solve), on the small pile
 // problem (pile_problem.hpp) in Mohr-Coulomb sand, the pile pushed by D/20 per step.
 //
-//   bench_quasi_static [cells_per_d] [threads] [sparse-lu|umfpack] [steps] [steps_per_d]
+//   bench_quasi_static [cells_per_d] [threads] [sparse-lu|umfpack|mumps] [steps] [steps_per_d]
 //   bench_quasi_static compare [cells_per_d] [steps] [repeats]
 //   bench_quasi_static footing <csv> [cells_under_footing] [friction] [steps_per_cell] [cells]
 //   bench_quasi_static pile <csv> [mohr-coulomb|hypoplastic] [cells_per_d] [steps_per_d] [depth_d]
@@ -13,7 +13,7 @@
 // the pile pushed `depth_d` D in `steps_per_d` steps per D. One CSV row per load step.
 //
 // `compare` pushes the pile `steps` steps, then factorises and solves the last Newton matrix
-// with Eigen's SparseLU and with UMFPACK alternately, `repeats` times each, and prints the
+// with Eigen's SparseLU, UMFPACK and MUMPS in turn, `repeats` times each, and prints the
 // fastest and the median time of each (pattern analysis + numeric factorisation + solve, and
 // the numeric factorisation + solve alone, as in the later iterations of an increment).
 //
@@ -64,6 +64,7 @@ int compare_solvers(int cells_per_d, int steps, int repeats) {
               long(matrix.rows()), long(matrix.cols()), long(matrix.nonZeros()));
   std::vector<LinearSolverKind> kinds = {LinearSolverKind::sparse_lu};
   if (umfpack_available()) kinds.push_back(LinearSolverKind::umfpack);
+  if (mumps_available()) kinds.push_back(LinearSolverKind::mumps);
   std::vector<std::vector<double>> full(kinds.size()), numeric(kinds.size());
   std::vector<double> residual(kinds.size(), 0.0);
   for (int r = 0; r < repeats; ++r)
@@ -261,8 +262,9 @@ int main(int argc, char** argv) {
   problem.cells_per_d = cells_per_d;
   problem.model = pile_mohr_coulomb_sand();
   problem.settings.threads = threads;
-  problem.settings.linear_solver =
-      solver_name == "umfpack" ? LinearSolverKind::umfpack : LinearSolverKind::sparse_lu;
+  problem.settings.linear_solver = solver_name == "mumps"     ? LinearSolverKind::mumps
+                                   : solver_name == "umfpack" ? LinearSolverKind::umfpack
+                                                              : LinearSolverKind::sparse_lu;
   apply_environment(problem.settings);
   QuasiStaticSolver solver = problem.build();
   std::printf("particles %zu, threads %d, linear solver %s\n", solver.particles().size(), threads,

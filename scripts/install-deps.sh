@@ -11,6 +11,8 @@ packages=(
   libhdf5-dev
   libceres-dev libnlopt-cxx-dev
   libsuitesparse-dev
+  libmumps-seq-dev  # the quasi-static analysis's default sparse LU (docs/quasi-static.md)
+  libopenblas0-serial  # BLAS for MUMPS and UMFPACK: 1.3-1.6 times ATLAS's speed (docs/benchmarks.md)
   python3-matplotlib
   parallel  # GNU parallel: the command list of `pilempm study centrifuge --write-commands` (tested)
 )

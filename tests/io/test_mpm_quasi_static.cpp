@@ -394,5 +394,36 @@ TEST(QuasiStaticMpmCase, NewtonsTolerancesAndStallRuleAreKeys) {
   EXPECT_NE(message.find("quasi-static"), std::string::npos) << message;
 }
 
+// [solver] linear_solver: the build's fastest by default; each one the build has by name; any
+// other name an error with the allowed ones; a name the build lacks an error naming the default.
+TEST(QuasiStaticMpmCase, LinearSolverIsAKeyWithTheBuildsSolvers) {
+  using mpm::quasi_static::LinearSolverKind;
+  const auto with_solver = [](const std::string& name) {
+    return replaced(column_case(), "threads = 1", "threads = 1\nlinear_solver = \"" + name + "\"");
+  };
+  EXPECT_EQ(read_mpm_case_text(column_case(), "case.toml").quasi_static.linear_solver,
+            mpm::quasi_static::default_linear_solver());
+  for (const LinearSolverKind kind :
+       {LinearSolverKind::sparse_lu, LinearSolverKind::umfpack, LinearSolverKind::mumps}) {
+    const std::string name = mpm::quasi_static::to_string(kind);
+    if (!mpm::quasi_static::linear_solver_available(kind)) {
+      const std::string message = read_error(with_solver(name));
+      EXPECT_NE(message.find("this build has no " + name), std::string::npos) << message;
+      continue;
+    }
+    const MpmCase read = read_mpm_case_text(with_solver(name), "case.toml");
+    EXPECT_EQ(read.quasi_static.linear_solver, kind) << name;
+    // Written back (by name where it is not the default) and read again: the same solver.
+    EXPECT_EQ(read_mpm_case_text(mpm_case_text(read), "written.toml").quasi_static.linear_solver,
+              kind)
+        << name;
+  }
+  const std::string message = read_error(with_solver("pardiso"));
+  EXPECT_NE(message.find("solver.linear_solver"), std::string::npos) << message;
+  EXPECT_NE(message.find("pardiso"), std::string::npos) << message;
+  for (const char* allowed : {"mumps", "umfpack", "sparse-lu"})
+    EXPECT_NE(message.find(allowed), std::string::npos) << message;
+}
+
 }  // namespace
 }  // namespace pilempm

@@ -150,12 +150,16 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
       solver->number_or("accept_tolerance", q.accept_tolerance, NumberRange::closed(0.0, 0.1));
   q.accept_after = solver->integer_or("accept_after_iterations", q.accept_after, 0, 1000);
   q.stall_iterations = solver->integer_or("stall_iterations", q.stall_iterations, 0, 1000);
-  if (auto linear = solver->optional_choice("linear_solver", {"umfpack", "sparse-lu"})) {
-    q.linear_solver = *linear == "umfpack" ? mpm::quasi_static::LinearSolverKind::umfpack
-                                           : mpm::quasi_static::LinearSolverKind::sparse_lu;
-    if (q.linear_solver == mpm::quasi_static::LinearSolverKind::umfpack &&
-        !mpm::quasi_static::umfpack_available())
-      throw solver->error("linear_solver", "umfpack: this build has no UMFPACK (use sparse-lu)");
+  if (auto linear = solver->optional_choice("linear_solver", {"mumps", "umfpack", "sparse-lu"})) {
+    using mpm::quasi_static::LinearSolverKind;
+    q.linear_solver = *linear == "mumps"     ? LinearSolverKind::mumps
+                      : *linear == "umfpack" ? LinearSolverKind::umfpack
+                                             : LinearSolverKind::sparse_lu;
+    if (!mpm::quasi_static::linear_solver_available(q.linear_solver))
+      throw solver->error(
+          "linear_solver",
+          fmt::format("{}: this build has no {} (use {})", *linear, *linear,
+                      mpm::quasi_static::to_string(mpm::quasi_static::default_linear_solver())));
   }
   q.contact.penalty_factor = solver->number_or("contact_penalty_factor", q.contact.penalty_factor,
                                                NumberRange::closed(1e-3, 1e3));

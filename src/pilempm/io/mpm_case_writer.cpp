@@ -238,11 +238,9 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.number("accept_tolerance", q.accept_tolerance);
   t.integer("accept_after_iterations", q.accept_after);
   t.integer("stall_iterations", q.stall_iterations);
-  // This build's default when it is the default (a file that names UMFPACK needs a build with it).
+  // Only when not this build's default (a file that names a solver needs a build with it).
   if (q.linear_solver != mpm::quasi_static::Settings{}.linear_solver)
-    t.text("linear_solver", q.linear_solver == mpm::quasi_static::LinearSolverKind::umfpack
-                                ? "umfpack"
-                                : "sparse-lu");
+    t.text("linear_solver", mpm::quasi_static::to_string(q.linear_solver));
   t.number("contact_penalty_factor", q.contact.penalty_factor);
   t.number("newton_step_limit_cells", q.step_limit);
   t.number("contact_vertex_radius_cells", q.contact.vertex_radius);

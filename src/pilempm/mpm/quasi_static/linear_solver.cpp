@@ -1,9 +1,15 @@
 #include "pilempm/mpm/quasi_static/linear_solver.hpp"
 
+#include <fmt/format.h>
+
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseLU>
+#include <vector>
 #ifdef PILEMPM_HAVE_UMFPACK
 #include <Eigen/UmfPackSupport>
+#endif
+#ifdef PILEMPM_HAVE_MUMPS
+#include <dmumps_c.h>
 #endif
 
 #include "pilempm/core/error.hpp"
@@ -18,14 +24,134 @@ bool umfpack_available() {
 #endif
 }
 
-std::string to_string(LinearSolverKind kind) {
-  return kind == LinearSolverKind::umfpack ? "umfpack" : "sparse-lu";
+bool mumps_available() {
+#ifdef PILEMPM_HAVE_MUMPS
+  return true;
+#else
+  return false;
+#endif
 }
+
+bool linear_solver_available(LinearSolverKind kind) {
+  switch (kind) {
+    case LinearSolverKind::umfpack:
+      return umfpack_available();
+    case LinearSolverKind::mumps:
+      return mumps_available();
+    case LinearSolverKind::sparse_lu:
+      break;
+  }
+  return true;
+}
+
+LinearSolverKind default_linear_solver() {
+  if (mumps_available()) return LinearSolverKind::mumps;
+  if (umfpack_available()) return LinearSolverKind::umfpack;
+  return LinearSolverKind::sparse_lu;
+}
+
+std::string to_string(LinearSolverKind kind) {
+  switch (kind) {
+    case LinearSolverKind::umfpack:
+      return "umfpack";
+    case LinearSolverKind::mumps:
+      return "mumps";
+    case LinearSolverKind::sparse_lu:
+      break;
+  }
+  return "sparse-lu";
+}
+
+#ifdef PILEMPM_HAVE_MUMPS
+namespace {
+
+// MUMPS 5 (Amestoy et al. 2001, SIAM J. Matrix Anal. Appl. 23(1)), sequential, through its C
+// interface: the matrix in coordinates (1-based), analysis (job 1) once per pattern,
+// factorisation (job 2) per matrix, solution (job 3) per right-hand side.
+class Mumps {
+ public:
+  Mumps() {
+    id_.comm_fortran = kUseCommWorld;
+    id_.par = 1;  // the host works (sequential library)
+    id_.sym = 0;  // unsymmetric
+    id_.job = kInitialise;
+    dmumps_c(&id_);
+    id_.icntl[0] = -1;  // ICNTL(1-4): no messages
+    id_.icntl[1] = -1;
+    id_.icntl[2] = -1;
+    id_.icntl[3] = 0;
+    id_.icntl[6] = 0;  // ICNTL(7): AMD ordering, the fastest of MUMPS's on the pile's matrices
+  }
+  ~Mumps() {
+    id_.job = kTerminate;
+    dmumps_c(&id_);
+  }
+  Mumps(const Mumps&) = delete;
+  Mumps& operator=(const Mumps&) = delete;
+
+  bool factorize(const SparseMatrix& matrix, bool new_pattern) {
+    if (matrix.rows() == 0) return true;
+    const auto entries = std::size_t(matrix.nonZeros());
+    values_.assign(matrix.valuePtr(), matrix.valuePtr() + entries);
+    id_.a = values_.data();
+    if (new_pattern || rows_.size() != entries) {
+      rows_.resize(entries);
+      columns_.resize(entries);
+      for (int c = 0; c < matrix.outerSize(); ++c)
+        for (int k = matrix.outerIndexPtr()[c]; k < matrix.outerIndexPtr()[c + 1]; ++k) {
+          rows_[std::size_t(k)] = matrix.innerIndexPtr()[k] + 1;
+          columns_[std::size_t(k)] = c + 1;
+        }
+      id_.n = MUMPS_INT(matrix.rows());
+      id_.nnz = MUMPS_INT8(entries);
+      id_.irn = rows_.data();
+      id_.jcn = columns_.data();
+      id_.job = kAnalyse;
+      dmumps_c(&id_);
+      if (id_.infog[0] < 0) return false;
+    }
+    // Too little workspace for the pivots' delays (INFOG(1) = -8, -9): more, and again.
+    id_.icntl[13] = kWorkspaceRelaxation;
+    for (int attempt = 0; attempt < 4; ++attempt) {
+      id_.job = kFactorise;
+      dmumps_c(&id_);
+      if (id_.infog[0] != -8 && id_.infog[0] != -9) break;
+      id_.icntl[13] *= 2;
+    }
+    return id_.infog[0] >= 0;
+  }
+
+  Eigen::VectorXd solve(const Eigen::VectorXd& b) {
+    Eigen::VectorXd x = b;
+    if (x.size() == 0) return x;
+    id_.rhs = x.data();
+    id_.nrhs = 1;
+    id_.lrhs = id_.n;
+    id_.job = kSolve;
+    dmumps_c(&id_);
+    return x;
+  }
+
+ private:
+  static constexpr MUMPS_INT kUseCommWorld = -987654;
+  static constexpr MUMPS_INT kInitialise = -1, kTerminate = -2, kAnalyse = 1, kFactorise = 2,
+                             kSolve = 3;
+  static constexpr MUMPS_INT kWorkspaceRelaxation = 20;  ///< ICNTL(14), MUMPS's default [%]
+  DMUMPS_STRUC_C id_{};
+  std::vector<MUMPS_INT> rows_, columns_;
+  std::vector<double> values_;
+};
+
+}  // namespace
+#endif
 
 struct LinearSolver::Backend {
   Eigen::SparseLU<SparseMatrix, Eigen::COLAMDOrdering<int>> sparse_lu;
 #ifdef PILEMPM_HAVE_UMFPACK
   Eigen::UmfPackLU<SparseMatrix> umfpack;
+#endif
+#ifdef PILEMPM_HAVE_MUMPS
+  std::unique_ptr<Mumps> mumps;  // made when first used
 #endif
 };
 
@@ -35,12 +161,23 @@ LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
 LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;
 
 void LinearSolver::set_kind(LinearSolverKind kind) {
-  if (kind == LinearSolverKind::umfpack && !umfpack_available())
-    throw InvalidValue("linear solver", "umfpack", "sparse-lu (this build has no UMFPACK)");
+  if (!linear_solver_available(kind))
+    throw InvalidValue("linear solver", to_string(kind),
+                       fmt::format("{} (this build has no {})", to_string(default_linear_solver()),
+                                   to_string(kind)));
   kind_ = kind;
 }
 
 bool LinearSolver::factorize(const SparseMatrix& matrix, bool new_pattern) {
+#ifdef PILEMPM_HAVE_MUMPS
+  if (kind_ == LinearSolverKind::mumps) {
+    if (!backend_->mumps) {
+      backend_->mumps = std::make_unique<Mumps>();
+      new_pattern = true;
+    }
+    return backend_->mumps->factorize(matrix, new_pattern);
+  }
+#endif
 #ifdef PILEMPM_HAVE_UMFPACK
   if (kind_ == LinearSolverKind::umfpack) {
     // UMFPACK's symbolic analysis depends on the pattern only; the numeric one on the values.
@@ -55,6 +192,9 @@ bool LinearSolver::factorize(const SparseMatrix& matrix, bool new_pattern) {
 }
 
 Eigen::VectorXd LinearSolver::solve(const Eigen::VectorXd& b) const {
+#ifdef PILEMPM_HAVE_MUMPS
+  if (kind_ == LinearSolverKind::mumps) return backend_->mumps->solve(b);
+#endif
 #ifdef PILEMPM_HAVE_UMFPACK
   if (kind_ == LinearSolverKind::umfpack) return backend_->umfpack.solve(b);
 #endif

@@ -1,8 +1,9 @@
 #pragma once
 // The sparse direct solver of the quasi-static analysis: LU of a general (unsymmetric) sparse
-// matrix, from Eigen (SparseLU, supernodal, COLAMD ordering) or from SuiteSparse (UMFPACK,
-// multifrontal, through Eigen's UmfPackLU wrapper) when the build found it
-// (PILEMPM_HAVE_UMFPACK). docs/quasi-static.md compares the two.
+// matrix, from MUMPS (sequential, multifrontal, AMD ordering) or SuiteSparse UMFPACK
+// (multifrontal, through Eigen's UmfPackLU wrapper) when the build found them
+// (PILEMPM_HAVE_MUMPS, PILEMPM_HAVE_UMFPACK), or from Eigen (SparseLU, supernodal, COLAMD
+// ordering) always. docs/quasi-static.md, "The linear solver", compares them.
 #include <Eigen/SparseCore>
 #include <memory>
 #include <string>
@@ -12,10 +13,18 @@ namespace pilempm::mpm::quasi_static {
 enum class LinearSolverKind {
   sparse_lu,  ///< Eigen::SparseLU with COLAMD ordering
   umfpack,    ///< SuiteSparse UMFPACK (only where built with it)
+  mumps,      ///< MUMPS, sequential (only where built with it)
 };
 
 /// Whether this build has UMFPACK.
 bool umfpack_available();
+/// Whether this build has MUMPS.
+bool mumps_available();
+/// Whether this build has the solver `kind`.
+bool linear_solver_available(LinearSolverKind kind);
+/// The fastest solver this build has (docs/quasi-static.md): MUMPS, else UMFPACK, else SparseLU.
+LinearSolverKind default_linear_solver();
+/// "sparse-lu", "umfpack", "mumps" (the names of `[solver] linear_solver`).
 std::string to_string(LinearSolverKind kind);
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
@@ -27,7 +36,7 @@ class LinearSolver {
   LinearSolver(LinearSolver&&) noexcept;
   LinearSolver& operator=(LinearSolver&&) noexcept;
 
-  /// Throws InvalidValue for UMFPACK in a build without it.
+  /// Throws InvalidValue for a solver this build does not have.
   void set_kind(LinearSolverKind kind);
   LinearSolverKind kind() const { return kind_; }
 

@@ -93,8 +93,10 @@ void Settings::validate() const {
       !std::isfinite(floor_volume_ratio))
     throw InvalidValue("floor_volume_ratio", format_value(floor_volume_ratio), "0 (none) or > 1");
   if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0");
-  if (linear_solver == LinearSolverKind::umfpack && !umfpack_available())
-    throw InvalidValue("linear_solver", "umfpack", "sparse-lu (this build has no UMFPACK)");
+  if (!linear_solver_available(linear_solver))
+    throw InvalidValue("linear_solver", to_string(linear_solver),
+                       fmt::format("{} (this build has no {})", to_string(default_linear_solver()),
+                                   to_string(linear_solver)));
   contact.validate();
 }
 

@@ -21,7 +21,7 @@
 // integrated update: the model's own tangent where it is exact (linear elasticity), else the
 // forward-difference perturbation of the integrated update (Fellin & Ostermann 2002), which is
 // the consistent tangent to the perturbation's accuracy for any model. K is not symmetric in
-// general; it is factorised by a sparse LU (Eigen's SparseLU or SuiteSparse UMFPACK).
+// general; it is factorised by a sparse LU (MUMPS, SuiteSparse UMFPACK or Eigen's SparseLU).
 //
 // Contact with rigid bodies is a penalty law at the corners of the particles' GIMP domains against
 // the body's exact surface (RigidBody::query), with Coulomb friction (stick/slip return map on the
@@ -205,10 +205,9 @@ struct Settings {
   /// springs stiffen the cut cells beside the pile: docs/quasi-static.md, "Nodes inside a rigid
   /// body").
   double inside_body_weakness = 0.0;
-  /// UMFPACK where the build has it (about 3 times faster on the pile problem,
-  /// docs/quasi-static.md).
-  LinearSolverKind linear_solver =
-      umfpack_available() ? LinearSolverKind::umfpack : LinearSolverKind::sparse_lu;
+  /// The fastest the build has: MUMPS, else UMFPACK, else Eigen's SparseLU
+  /// (docs/quasi-static.md, "The linear solver").
+  LinearSolverKind linear_solver = default_linear_solver();
   /// B-bar (Hughes 1980, Int. J. Numer. Meth. Eng. 15): the volumetric strain increment of each
   /// particle is replaced by the volume-weighted mean over the particles of its grid cell, in
   /// the stress update and in the strain-displacement operator (internal force and tangent),
