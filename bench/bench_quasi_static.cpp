@@ -13,9 +13,9 @@
 // the pile pushed `depth_d` D in `steps_per_d` steps per D. One CSV row per load step.
 //
 // `compare` pushes the pile `steps` steps, then factorises and solves the last Newton matrix
-// with Eigen's SparseLU, UMFPACK and MUMPS in turn, `repeats` times each, and prints the
-// fastest and the median time of each (pattern analysis + numeric factorisation + solve, and
-// the numeric factorisation + solve alone, as in the later iterations of an increment).
+// with each solver the build has (MUMPS, UMFPACK, SparseLU) in turn, `repeats` times each, and
+// prints the fastest and the median time of each (pattern analysis + numeric factorisation + solve,
+// and the numeric factorisation + solve alone, as in the later iterations of an increment).
 //
 // The particle count follows from cells_per_d (5 D x 8 D sand, 2 x 2 per cell): 4 -> 2 560,
 // 7 -> 7 840, 12 -> 23 040, 14 -> 31 360. Prints one line per load step and the means.
@@ -62,9 +62,9 @@ int compare_solvers(int cells_per_d, int steps, int repeats) {
   const Eigen::VectorXd b = Eigen::VectorXd::Ones(matrix.rows());
   std::printf("particles %zu, matrix %ld x %ld, %ld non-zeros\n", solver.particles().size(),
               long(matrix.rows()), long(matrix.cols()), long(matrix.nonZeros()));
-  std::vector<LinearSolverKind> kinds = {LinearSolverKind::sparse_lu};
-  if (umfpack_available()) kinds.push_back(LinearSolverKind::umfpack);
-  if (mumps_available()) kinds.push_back(LinearSolverKind::mumps);
+  std::vector<LinearSolverKind> kinds;
+  for (const LinearSolverKind kind : kLinearSolverKinds)
+    if (linear_solver_available(kind)) kinds.push_back(kind);
   std::vector<std::vector<double>> full(kinds.size()), numeric(kinds.size());
   std::vector<double> residual(kinds.size(), 0.0);
   for (int r = 0; r < repeats; ++r)
@@ -262,9 +262,8 @@ int main(int argc, char** argv) {
   problem.cells_per_d = cells_per_d;
   problem.model = pile_mohr_coulomb_sand();
   problem.settings.threads = threads;
-  problem.settings.linear_solver = solver_name == "mumps"     ? LinearSolverKind::mumps
-                                   : solver_name == "umfpack" ? LinearSolverKind::umfpack
-                                                              : LinearSolverKind::sparse_lu;
+  problem.settings.linear_solver =
+      linear_solver_from_string(solver_name).value_or(LinearSolverKind::sparse_lu);
   apply_environment(problem.settings);
   QuasiStaticSolver solver = problem.build();
   std::printf("particles %zu, threads %d, linear solver %s\n", solver.particles().size(), threads,

@@ -403,8 +403,7 @@ TEST(QuasiStaticMpmCase, LinearSolverIsAKeyWithTheBuildsSolvers) {
   };
   EXPECT_EQ(read_mpm_case_text(column_case(), "case.toml").quasi_static.linear_solver,
             mpm::quasi_static::default_linear_solver());
-  for (const LinearSolverKind kind :
-       {LinearSolverKind::sparse_lu, LinearSolverKind::umfpack, LinearSolverKind::mumps}) {
+  for (const LinearSolverKind kind : mpm::quasi_static::kLinearSolverKinds) {
     const std::string name = mpm::quasi_static::to_string(kind);
     if (!mpm::quasi_static::linear_solver_available(kind)) {
       const std::string message = read_error(with_solver(name));

@@ -14,8 +14,7 @@ namespace {
 
 std::vector<LinearSolverKind> available_kinds() {
   std::vector<LinearSolverKind> kinds;
-  for (const LinearSolverKind kind :
-       {LinearSolverKind::sparse_lu, LinearSolverKind::umfpack, LinearSolverKind::mumps})
+  for (const LinearSolverKind kind : kLinearSolverKinds)
     if (linear_solver_available(kind)) kinds.push_back(kind);
   return kinds;
 }

@@ -99,6 +99,14 @@ const std::vector<std::string> kQuasiStaticOnlyKeys = {"displacement_step_m",
                                                        "low_stress_pressure_Pa",
                                                        "inside_body_weakness"};
 
+// The names of [solver] linear_solver, fastest first.
+std::vector<std::string> linear_solver_names() {
+  std::vector<std::string> names;
+  for (const auto kind : mpm::quasi_static::kLinearSolverKinds)
+    names.push_back(mpm::quasi_static::to_string(kind));
+  return names;
+}
+
 // [solver]: the analysis and its settings; a key of the other analysis is an error.
 void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   mpm::SolverSettings& s = c.solver;
@@ -150,11 +158,8 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
       solver->number_or("accept_tolerance", q.accept_tolerance, NumberRange::closed(0.0, 0.1));
   q.accept_after = solver->integer_or("accept_after_iterations", q.accept_after, 0, 1000);
   q.stall_iterations = solver->integer_or("stall_iterations", q.stall_iterations, 0, 1000);
-  if (auto linear = solver->optional_choice("linear_solver", {"mumps", "umfpack", "sparse-lu"})) {
-    using mpm::quasi_static::LinearSolverKind;
-    q.linear_solver = *linear == "mumps"     ? LinearSolverKind::mumps
-                      : *linear == "umfpack" ? LinearSolverKind::umfpack
-                                             : LinearSolverKind::sparse_lu;
+  if (auto linear = solver->optional_choice("linear_solver", linear_solver_names())) {
+    q.linear_solver = *mpm::quasi_static::linear_solver_from_string(*linear);
     if (!mpm::quasi_static::linear_solver_available(q.linear_solver))
       throw solver->error(
           "linear_solver",

@@ -45,8 +45,8 @@ bool linear_solver_available(LinearSolverKind kind) {
 }
 
 LinearSolverKind default_linear_solver() {
-  if (mumps_available()) return LinearSolverKind::mumps;
-  if (umfpack_available()) return LinearSolverKind::umfpack;
+  for (const LinearSolverKind kind : kLinearSolverKinds)
+    if (linear_solver_available(kind)) return kind;
   return LinearSolverKind::sparse_lu;
 }
 
@@ -60,6 +60,19 @@ std::string to_string(LinearSolverKind kind) {
       break;
   }
   return "sparse-lu";
+}
+
+std::optional<LinearSolverKind> linear_solver_from_string(std::string_view name) {
+  for (const LinearSolverKind kind : kLinearSolverKinds)
+    if (to_string(kind) == name) return kind;
+  return std::nullopt;
+}
+
+void require_linear_solver(LinearSolverKind kind) {
+  if (!linear_solver_available(kind))
+    throw InvalidValue("linear_solver", to_string(kind),
+                       fmt::format("{} (this build has no {})", to_string(default_linear_solver()),
+                                   to_string(kind)));
 }
 
 #ifdef PILEMPM_HAVE_MUMPS
@@ -94,7 +107,7 @@ class Mumps {
     const auto entries = std::size_t(matrix.nonZeros());
     values_.assign(matrix.valuePtr(), matrix.valuePtr() + entries);
     id_.a = values_.data();
-    if (new_pattern || rows_.size() != entries) {
+    if (new_pattern) {
       rows_.resize(entries);
       columns_.resize(entries);
       for (int c = 0; c < matrix.outerSize(); ++c)
@@ -161,10 +174,7 @@ LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
 LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;
 
 void LinearSolver::set_kind(LinearSolverKind kind) {
-  if (!linear_solver_available(kind))
-    throw InvalidValue("linear solver", to_string(kind),
-                       fmt::format("{} (this build has no {})", to_string(default_linear_solver()),
-                                   to_string(kind)));
+  require_linear_solver(kind);
   kind_ = kind;
 }
 

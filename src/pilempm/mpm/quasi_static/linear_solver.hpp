@@ -5,8 +5,11 @@
 // (PILEMPM_HAVE_MUMPS, PILEMPM_HAVE_UMFPACK), or from Eigen (SparseLU, supernodal, COLAMD
 // ordering) always. docs/quasi-static.md, "The linear solver", compares them.
 #include <Eigen/SparseCore>
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
+#include <string_view>
 
 namespace pilempm::mpm::quasi_static {
 
@@ -15,6 +18,9 @@ enum class LinearSolverKind {
   umfpack,    ///< SuiteSparse UMFPACK (only where built with it)
   mumps,      ///< MUMPS, sequential (only where built with it)
 };
+/// Every kind, fastest first (the order of default_linear_solver's choice).
+inline constexpr std::array<LinearSolverKind, 3> kLinearSolverKinds = {
+    LinearSolverKind::mumps, LinearSolverKind::umfpack, LinearSolverKind::sparse_lu};
 
 /// Whether this build has UMFPACK.
 bool umfpack_available();
@@ -26,6 +32,10 @@ bool linear_solver_available(LinearSolverKind kind);
 LinearSolverKind default_linear_solver();
 /// "sparse-lu", "umfpack", "mumps" (the names of `[solver] linear_solver`).
 std::string to_string(LinearSolverKind kind);
+/// The kind of one of those names; none for any other.
+std::optional<LinearSolverKind> linear_solver_from_string(std::string_view name);
+/// Throws InvalidValue (key "linear_solver", naming the default) for a kind this build lacks.
+void require_linear_solver(LinearSolverKind kind);
 
 using SparseMatrix = Eigen::SparseMatrix<double, Eigen::ColMajor, int>;
 

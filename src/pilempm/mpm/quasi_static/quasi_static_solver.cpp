@@ -93,10 +93,7 @@ void Settings::validate() const {
       !std::isfinite(floor_volume_ratio))
     throw InvalidValue("floor_volume_ratio", format_value(floor_volume_ratio), "0 (none) or > 1");
   if (threads < 0) throw InvalidValue("threads", std::to_string(threads), ">= 0");
-  if (!linear_solver_available(linear_solver))
-    throw InvalidValue("linear_solver", to_string(linear_solver),
-                       fmt::format("{} (this build has no {})", to_string(default_linear_solver()),
-                                   to_string(linear_solver)));
+  require_linear_solver(linear_solver);
   contact.validate();
 }
 
