@@ -255,6 +255,16 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
                  "solver.stall_iterations", "1000");
   expect_refused(kMohrCoulomb + std::string("[solver]\nstall_iterations = 5\n"), "stall_iterations",
                  "solver.stall_iterations", "quasi-static");
+  // Tangent reuse: the library's default, carried to the MPM case file and back; 0 turns it off.
+  EXPECT_EQ(by_default.quasi_static.tangent_reuse, mpm::quasi_static::Settings{}.tangent_reuse);
+  EXPECT_EQ(back.quasi_static.tangent_reuse, by_default.quasi_static.tangent_reuse);
+  const CentrifugeScenario no_reuse =
+      read_centrifuge_case_text(quasi_static(kMohrCoulomb, "tangent_reuse = 0\n"), "case.toml");
+  EXPECT_EQ(centrifuge_to_mpm_case(no_reuse, "m.toml").quasi_static.tangent_reuse, 0.0);
+  expect_refused(quasi_static(kMohrCoulomb, "tangent_reuse = 0.6\n"), "tangent_reuse",
+                 "solver.tangent_reuse", "0.5");
+  expect_refused(kMohrCoulomb + std::string("[solver]\ntangent_reuse = 0.1\n"), "tangent_reuse",
+                 "solver.tangent_reuse", "quasi-static");
   const CentrifugeScenario tight = read_centrifuge_case_text(
       quasi_static(kMohrCoulomb, "force_tolerance = 1e-6\n"), "case.toml");
   const simulation::MpmCase tight_case = centrifuge_to_mpm_case(tight, "m.toml");

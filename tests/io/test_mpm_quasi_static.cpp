@@ -345,7 +345,7 @@ TEST(QuasiStaticMpmCase, KeysOfTheOtherAnalysisAreErrors) {
 // Newton's two tolerances: the energy norm falls as the square of the residual, so without its
 // own key the energy tolerance follows the force tolerance (100 f², the defaults' pair 1e-6,
 // 1e-10); given, it is kept; the written case reads back with both. The stall rule: off unless
-// given.
+// given. The tangent reuse: 0.1 unless given, in [0, 0.5].
 TEST(QuasiStaticMpmCase, NewtonsTolerancesAndStallRuleAreKeys) {
   const auto settings = [](const std::string& keys) {
     return read_mpm_case_text(replaced(column_case(), "threads = 1", "threads = 1\n" + keys),
@@ -379,6 +379,12 @@ TEST(QuasiStaticMpmCase, NewtonsTolerancesAndStallRuleAreKeys) {
   EXPECT_EQ(written.quasi_static.force_tolerance, 1e-5);
   EXPECT_EQ(written.quasi_static.energy_tolerance, 1e-8);
 
+  EXPECT_EQ(plain.tangent_reuse, 0.1);
+  EXPECT_EQ(settings("tangent_reuse = 0").tangent_reuse, 0.0);
+  const std::string reuse_message =
+      read_error(replaced(column_case(), "threads = 1", "threads = 1\ntangent_reuse = -0.1"));
+  EXPECT_NE(reuse_message.find("solver.tangent_reuse"), std::string::npos) << reuse_message;
+  EXPECT_NE(reuse_message.find("[0, 0.5]"), std::string::npos) << reuse_message;
   EXPECT_EQ(plain.stall_iterations, 0);
   EXPECT_EQ(settings("stall_iterations = 5").stall_iterations, 5);
   std::string message =

@@ -223,26 +223,37 @@ TEST(QuasiStaticNewton, TheTraceHasALinePerIterationWithTheRecordedResidual) {
 // steps. Newton with the perturbation tangent of the integrated update converges in a few
 // iterations per step, and the residual falls superlinearly in the last iterations; the
 // vertical stress at the base then carries the column's weight at 60 g.
-TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIterations) {
-  const int cells = 16;
-  const double height = 1.0, h = height / cells, void_ratio = 0.68;
+// The hypoplastic sand column of the tests below ("original" set, IGS3, e = 0.68, 16 cells, 1 m
+// high, two cells wide, plane strain): in its K0 state at 40 g (K0 = 0.5, vertical intergranular
+// strain mobilised).
+struct HypoplasticColumn {
+  static constexpr int cells = 16;
+  static constexpr double height = 1.0, h = height / cells, void_ratio = 0.68;
   const double density = 2650.0 / (1.0 + void_ratio);
-  Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
-            GridAxis::uniform(0.0, height + 2.0 * h, cells + 2));
-  test_support::set_walls_and_fixed_base(grid);
-  const auto model =
+  const std::shared_ptr<Hypoplastic> model =
       std::make_shared<Hypoplastic>(hypoplastic_set("original"), intergranular_strain_set("IGS3"));
-  RectangleFill fill = test_support::block_fill(0.0, 2.0 * h, 0.0, height, density);
-  fill.initial_state.void_ratio = void_ratio;
-  Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
-  for (std::size_t p = 0; p < particles.size(); ++p) {
-    const double vertical = -density * 9.81 * 40.0 * (height - particles.position[p].y()) - 1e3;
-    particles.state[p].stress = diagonal6(0.5 * vertical, vertical, 0.5 * vertical);
-    Hypoplastic::intergranular_strain(particles.state[p]) =
-        diagonal6(0.0, -model->intergranular().R, 0.0);
+
+  QuasiStaticSolver solver(const Settings& settings) const {
+    Grid grid(GridAxis::uniform(0.0, 2.0 * h, 2),
+              GridAxis::uniform(0.0, height + 2.0 * h, cells + 2));
+    test_support::set_walls_and_fixed_base(grid);
+    RectangleFill fill = test_support::block_fill(0.0, 2.0 * h, 0.0, height, density);
+    fill.initial_state.void_ratio = void_ratio;
+    Particles particles = test_support::particle_block(grid, Geometry::plane_strain, fill);
+    for (std::size_t p = 0; p < particles.size(); ++p) {
+      const double vertical = -density * 9.81 * 40.0 * (height - particles.position[p].y()) - 1e3;
+      particles.state[p].stress = diagonal6(0.5 * vertical, vertical, 0.5 * vertical);
+      Hypoplastic::intergranular_strain(particles.state[p]) =
+          diagonal6(0.0, -model->intergranular().R, 0.0);
+    }
+    return QuasiStaticSolver(std::move(grid), std::move(particles), {model}, settings);
   }
-  Settings settings;
-  QuasiStaticSolver solver(std::move(grid), std::move(particles), {model}, settings);
+};
+
+TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIterations) {
+  const HypoplasticColumn column;
+  const double height = column.height, h = column.h, density = column.density;
+  QuasiStaticSolver solver = column.solver(Settings{});
   LoadStep load;
   load.gravity_multiplier = 40.0;
   ASSERT_TRUE(solver.solve_step(load).converged);  // the K0 state's own equilibrium
@@ -268,6 +279,51 @@ TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIteratio
   const double expected = -density * 9.81 * 60.0 * (height - 0.25 * h) - 1e3;
   EXPECT_NEAR(p.state[base].stress[k22], expected,
               density * 9.81 * 60.0 * h / 4.0 + 1e-3 * std::abs(expected));
+}
+
+// Settings::tangent_reuse: a particle's differentiated tangent is reused in a later iteration of
+// the sub-increment while its strain increment has changed by at most the given fraction. The
+// matrix is then no longer the exact derivative, but the residual is the same function: the
+// hypoplastic column loaded from 40 g to 60 g in steps converges to the same state (to Newton's
+// tolerance) with and without reuse, and reuse happens (in the later iterations of each step).
+TEST(QuasiStaticNewton, ReusedTangentsLeaveTheConvergedStateAsItIs) {
+  const HypoplasticColumn column;
+  struct Outcome {
+    std::vector<Vec6> stress;
+    long reused = 0;
+    int iterations = 0;
+  };
+  const auto load = [&](double reuse) {
+    Settings settings;
+    settings.tangent_reuse = reuse;
+    settings.force_tolerance = 1e-10;
+    settings.energy_tolerance = 1e-20;
+    QuasiStaticSolver solver = column.solver(settings);
+    Outcome out;
+    LoadStep step;
+    for (double n : {40.0, 45.0, 50.0, 55.0, 60.0}) {
+      step.gravity_multiplier = n;
+      const LoadStepResult r = solver.solve_step(step);
+      EXPECT_TRUE(r.converged) << n << " g, reuse " << reuse << ": " << r.message;
+      EXPECT_EQ(r.accepted, 0);  // each converged to the force tolerance, none accepted above it
+      out.reused += r.reused_tangents;
+      out.iterations += r.iterations;
+    }
+    for (const MaterialState& s : solver.particles().state) out.stress.push_back(s.stress);
+    return out;
+  };
+  const Outcome exact = load(0.0), reused = load(0.1);
+  std::printf("tangent reuse 0.1: %ld tangents reused, %d iterations (without: %d)\n",
+              reused.reused, reused.iterations, exact.iterations);
+  EXPECT_EQ(exact.reused, 0);
+  EXPECT_GT(reused.reused, 0);
+  ASSERT_EQ(exact.stress.size(), reused.stress.size());
+  double largest = 0.0, difference = 0.0;
+  for (std::size_t p = 0; p < exact.stress.size(); ++p) {
+    largest = std::max(largest, exact.stress[p].norm());
+    difference = std::max(difference, (exact.stress[p] - reused.stress[p]).norm());
+  }
+  EXPECT_LT(difference, 1e-6 * largest);
 }
 
 // The Newton matrix is the derivative of the residual: the Mohr-Coulomb pile pushed 0.3 D, then

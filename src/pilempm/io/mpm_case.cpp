@@ -89,6 +89,7 @@ const std::vector<std::string> kQuasiStaticOnlyKeys = {"displacement_step_m",
                                                        "accept_tolerance",
                                                        "accept_after_iterations",
                                                        "stall_iterations",
+                                                       "tangent_reuse",
                                                        "linear_solver",
                                                        "contact_penalty_factor",
                                                        "newton_step_limit_cells",
@@ -158,6 +159,8 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
       solver->number_or("accept_tolerance", q.accept_tolerance, NumberRange::closed(0.0, 0.1));
   q.accept_after = solver->integer_or("accept_after_iterations", q.accept_after, 0, 1000);
   q.stall_iterations = solver->integer_or("stall_iterations", q.stall_iterations, 0, 1000);
+  q.tangent_reuse =
+      solver->number_or("tangent_reuse", q.tangent_reuse, NumberRange::closed(0.0, 0.5));
   if (auto linear = solver->optional_choice("linear_solver", linear_solver_names())) {
     q.linear_solver = *mpm::quasi_static::linear_solver_from_string(*linear);
     if (!mpm::quasi_static::linear_solver_available(q.linear_solver))

@@ -1,9 +1,11 @@
 #include "pilempm/mpm/quasi_static/linear_solver.hpp"
 
+#include <dlfcn.h>
 #include <fmt/format.h>
 
 #include <Eigen/OrderingMethods>
 #include <Eigen/SparseLU>
+#include <cstring>
 #include <vector>
 #ifdef PILEMPM_HAVE_UMFPACK
 #include <Eigen/UmfPackSupport>
@@ -168,7 +170,33 @@ struct LinearSolver::Backend {
 #endif
 };
 
-LinearSolver::LinearSolver() : backend_(std::make_unique<Backend>()) {}
+namespace {
+
+// OpenBLAS's pthreads build (Debian's libopenblas0-pthread, which `libopenblas0` and
+// `libopenblas-dev` bring) keeps worker threads that wait for the next call by spinning on
+// sched_yield; beside the analysis's OpenMP loops on a few cores they take a core's time (the
+// quick case on 2 cores: 19 s of system time in a 36 s run, docs/benchmarks.md). The fronts of
+// these matrices are small and two BLAS threads made no factorisation faster, so the BLAS under
+// MUMPS and UMFPACK is told to use one thread where it is OpenBLAS (found at run time: the build
+// may link any BLAS).
+void use_one_blas_thread() {
+  static const bool done = [] {
+    void* symbol = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
+    if (symbol != nullptr) {
+      void (*set_threads)(int) = nullptr;
+      std::memcpy(&set_threads, &symbol, sizeof set_threads);
+      set_threads(1);
+    }
+    return true;
+  }();
+  (void)done;
+}
+
+}  // namespace
+
+LinearSolver::LinearSolver() : backend_(std::make_unique<Backend>()) {
+  use_one_blas_thread();
+}
 LinearSolver::~LinearSolver() = default;
 LinearSolver::LinearSolver(LinearSolver&&) noexcept = default;
 LinearSolver& LinearSolver::operator=(LinearSolver&&) noexcept = default;

@@ -79,6 +79,8 @@ void Settings::validate() const {
   if (accept_after < 0) throw InvalidValue("accept_after", std::to_string(accept_after), ">= 0");
   if (stall_iterations < 0)
     throw InvalidValue("stall_iterations", std::to_string(stall_iterations), ">= 0");
+  if (!(tangent_reuse >= 0.0 && tangent_reuse < 1.0))
+    throw InvalidValue("tangent_reuse", format_value(tangent_reuse), "in [0, 1)");
   if (easy_iterations < 0)
     throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
   if (!(support_threshold >= 0.0 && support_threshold < 1.0))
@@ -262,8 +264,10 @@ bool QuasiStaticSolver::solve_sub_increment(double fraction, const LoadStep& loa
   // The iterate's residual first; the Newton matrix (the models' tangents, the most costly part
   // of an evaluation) only for the iterate that is kept, and only when it is needed.
   Trial trial;
+  TangentCache tangents;
   auto with_matrix = [&](Trial& t) {
-    return t.has_matrix || evaluate(setup, du, gravity, traction, body_step, true, t, result);
+    return t.has_matrix ||
+           evaluate(setup, du, gravity, traction, body_step, true, t, result, &tangents);
   };
   if (!evaluate(setup, du, gravity, traction, body_step, false, trial, result)) {
     result.message = "a stress update failed at the start of the increment" + failed_update(trial);

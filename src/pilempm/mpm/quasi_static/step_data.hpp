@@ -169,4 +169,14 @@ struct QuasiStaticSolver::Trial {
   }
 };
 
+// The particles' tangents differentiated in a sub-increment, with the strain and spin increments
+// they were differentiated at (Settings::tangent_reuse); valid: differentiated, not a floor's or a
+// closed form's.
+struct QuasiStaticSolver::TangentCache {
+  std::vector<detail::Mat4> tangent;
+  std::vector<Vec6> strain;
+  std::vector<double> spin;
+  std::vector<char> valid;
+};
+
 }  // namespace pilempm::mpm::quasi_static

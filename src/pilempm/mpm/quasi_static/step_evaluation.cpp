@@ -27,12 +27,21 @@ Mat6 isotropic_stiffness(double constrained_modulus) {
       .stiffness();
 }
 
+// Where a particle's material tangent came from (material_tangent).
+enum class TangentSource {
+  closed_form,   // the floor's, the rate form's or the model's own: cheap
+  perturbation,  // differences of the integrated update: the costly case
+  reused,        // the one given, computed earlier in the sub-increment (Settings::tangent_reuse)
+};
+
 // The material part of a particle's Newton matrix d (in-plane): the derivative of its integrated
-// update `state` (from `rotated` over `strain`) with respect to the strain.
-void material_tangent(const ConstitutiveModel& model, const MaterialState& converged,
-                      const MaterialState& rotated, const MaterialState& state, const Vec6& strain,
-                      bool on_floor, double reference_modulus, const SubstepPath& path,
-                      const Settings& settings, bool axisymmetric, Mat4& d) {
+// update `state` (from `rotated` over `strain`) with respect to the strain. Where it would be
+// differentiated (no closed form), `reusable`, where given, is taken instead.
+TangentSource material_tangent(const ConstitutiveModel& model, const MaterialState& converged,
+                               const MaterialState& rotated, const MaterialState& state,
+                               const Vec6& strain, bool on_floor, double reference_modulus,
+                               const SubstepPath& path, const Settings& settings, bool axisymmetric,
+                               const Mat4* reusable, Mat4& d) {
   // On the stress floor the integrated update does not change with the strain (a zero
   // derivative would leave the nodes such particles alone support without stiffness): a small
   // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only, of the
@@ -43,19 +52,23 @@ void material_tangent(const ConstitutiveModel& model, const MaterialState& conve
   };
   if (on_floor) {
     elastic_fallback();
-    return;
+    return TangentSource::closed_form;
   }
   const TangentKind kind = settings.tangent;
   if (kind == TangentKind::elastic) {
     d = in_plane(model.tangent(state, strain));
-    return;
+    return TangentSource::closed_form;
   }
   // The model's own consistent tangent where it has one in closed form (linear elasticity,
   // Mohr-Coulomb), from the same start as the update.
   Mat6 consistent;
   if (kind == TangentKind::automatic && model.consistent_tangent(rotated, strain, consistent)) {
     d = in_plane(consistent);
-    return;
+    return TangentSource::closed_form;
+  }
+  if (reusable != nullptr) {
+    d = *reusable;
+    return TangentSource::reused;
   }
   // Fellin & Ostermann (2002): forward differences of the integrated update, the probes along
   // the sub-steps the update took (SubstepPath: the quotient is then the derivative of one
@@ -71,11 +84,12 @@ void material_tangent(const ConstitutiveModel& model, const MaterialState& conve
     MaterialState probe = rotated;
     if (!model.update_along(probe, perturbed, path).ok) {  // beyond the model's domain
       elastic_fallback();
-      return;
+      return TangentSource::closed_form;
     }
     const Vec6 difference = (probe.stress - state.stress) / h;
     for (int r = 0; r < 4; ++r) d(r, dc) = difference[kComponents[r]];
   }
+  return TangentSource::perturbation;
 }
 
 }  // namespace
@@ -83,7 +97,7 @@ void material_tangent(const ConstitutiveModel& model, const MaterialState& conve
 bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<double>& du,
                                  double gravity, double traction,
                                  const std::vector<Vec2>& body_step, bool tangent, Trial& trial,
-                                 LoadStepResult& result) const {
+                                 LoadStepResult& result, TangentCache* cache) const {
   const Particles& p = particles_;
   const long count = static_cast<long>(p.size());
   const int nodes = grid_.node_count();
@@ -122,6 +136,16 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     trial.tangent.resize(std::size_t(count));
     trial.spin_tangent.resize(std::size_t(count));
   }
+  // Tangents computed earlier in the sub-increment (Settings::tangent_reuse).
+  const double reuse = settings_.tangent_reuse;
+  if (!tangent || !(reuse > 0.0)) cache = nullptr;
+  if (cache != nullptr && cache->valid.size() != std::size_t(count)) {
+    cache->tangent.resize(std::size_t(count));
+    cache->strain.resize(std::size_t(count));
+    cache->spin.resize(std::size_t(count));
+    cache->valid.assign(std::size_t(count), 0);
+  }
+  int reused_tangents = 0;
 
   // Kinematics, the stress from the converged state and the tangent, particle by particle.
   bool failed = false;
@@ -143,8 +167,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
   double repeat = 0.0;
   if (stabilising && !reference_strain_.empty() && reference_motion_.squaredNorm() > 0.0)
     repeat = largest_motion(body_step).dot(reference_motion_) / reference_motion_.squaredNorm();
-#pragma omp parallel for schedule(static) num_threads(threads_) reduction(|| : failed) \
-    reduction(+ : floor_particles)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads_) reduction(|| : failed) \
+    reduction(+ : floor_particles, reused_tangents)
   for (long i = 0; i < count; ++i) {
     const ParticleNodes& pn = setup.nodes[std::size_t(i)];
     Mat2 gradient = Mat2::Zero();
@@ -207,9 +231,29 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     if (!tangent) continue;
     Mat4& d = trial.tangent[std::size_t(i)];
     d.setZero();
-    material_tangent(model, p.state[std::size_t(i)], rotated, state, strain, on_floor,
-                     contact_modulus_[std::size_t(p.material[std::size_t(i)])],
-                     trial.path[std::size_t(i)], settings_, axisymmetric, d);
+    // The tangent differentiated at an earlier iterate of the sub-increment stands in where the
+    // particle's strain and spin increments have since changed by at most `reuse` of the strain
+    // increment's norm.
+    const Mat4* reusable = nullptr;
+    if (cache != nullptr && cache->valid[std::size_t(i)] != 0) {
+      const double spin_change = spin - cache->spin[std::size_t(i)];
+      const double change =
+          (strain - cache->strain[std::size_t(i)]).squaredNorm() + 2.0 * spin_change * spin_change;
+      if (change <= reuse * reuse * strain.squaredNorm())
+        reusable = &cache->tangent[std::size_t(i)];
+    }
+    const TangentSource source =
+        material_tangent(model, p.state[std::size_t(i)], rotated, state, strain, on_floor,
+                         contact_modulus_[std::size_t(p.material[std::size_t(i)])],
+                         trial.path[std::size_t(i)], settings_, axisymmetric, reusable, d);
+    if (source == TangentSource::reused) {
+      ++reused_tangents;
+    } else if (cache != nullptr) {
+      cache->valid[std::size_t(i)] = source == TangentSource::perturbation ? 1 : 0;
+      cache->tangent[std::size_t(i)] = d;
+      cache->strain[std::size_t(i)] = strain;
+      cache->spin[std::size_t(i)] = spin;
+    }
     if (low_modulus > 0.0) d += in_plane(low_stiffness);
     // The spin terms (Settings::spin_terms): ∂σ/∂w = (∂σ/∂σ_start) ∂(R σ_n Rᵀ)/∂w with
     // ∂σ/∂σ_start taken as the identity (exact for linear elasticity; for the other models the
@@ -223,6 +267,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     }
   }
   result.seconds_material += seconds_since(material_start);
+  result.reused_tangents += reused_tangents;
   trial.floor_particles = floor_particles;
   if (failed) return false;
 

@@ -78,6 +78,10 @@ struct CentrifugeScenario {
   /// Newton's stall rule (mpm::quasi_static::Settings::stall_iterations; quasi-static analysis
   /// only): a load step without a new lowest residual in 5 iterations is cut at once; 0: never.
   int stall_iterations = 5;
+  /// Reuse of the particles' differentiated tangents within a load step
+  /// (mpm::quasi_static::Settings::tangent_reuse; quasi-static analysis only): while a particle's
+  /// strain increment has changed by at most this fraction; 0: none.
+  double tangent_reuse = mpm::quasi_static::Settings{}.tangent_reuse;
   /// The low-stress stabilisation (mpm::quasi_static::Settings::low_stress_stiffness and
   /// low_stress_pressure; quasi-static analysis only, docs/centrifuge.md): 0, none; by default
   /// η = 3 only in a load step that fails without it (low_stress_use): MPM-3 stopped at 7.0 D
