@@ -218,11 +218,6 @@ TEST(QuasiStaticNewton, TheTraceHasALinePerIterationWithTheRecordedResidual) {
   }
 }
 
-// Hypoplasticity with intergranular strain ("original" set, IGS3, e = 0.68): a sand column in its
-// K0 state at 40 g (vertical intergranular strain mobilised), loaded to 50 g and 60 g in two load
-// steps. Newton with the perturbation tangent of the integrated update converges in a few
-// iterations per step, and the residual falls superlinearly in the last iterations; the
-// vertical stress at the base then carries the column's weight at 60 g.
 // The hypoplastic sand column of the tests below ("original" set, IGS3, e = 0.68, 16 cells, 1 m
 // high, two cells wide, plane strain): in its K0 state at 40 g (K0 = 0.5, vertical intergranular
 // strain mobilised).
@@ -250,6 +245,11 @@ struct HypoplasticColumn {
   }
 };
 
+// Hypoplasticity with intergranular strain ("original" set, IGS3, e = 0.68): a sand column in its
+// K0 state at 40 g (vertical intergranular strain mobilised), loaded to 50 g and 60 g in two load
+// steps. Newton with the perturbation tangent of the integrated update converges in a few
+// iterations per step, and the residual falls superlinearly in the last iterations; the
+// vertical stress at the base then carries the column's weight at 60 g.
 TEST(QuasiStaticNewton, HypoplasticWithIntergranularStrainConvergesInFewIterations) {
   const HypoplasticColumn column;
   const double height = column.height, h = column.h, density = column.density;

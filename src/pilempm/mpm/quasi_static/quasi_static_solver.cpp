@@ -79,8 +79,8 @@ void Settings::validate() const {
   if (accept_after < 0) throw InvalidValue("accept_after", std::to_string(accept_after), ">= 0");
   if (stall_iterations < 0)
     throw InvalidValue("stall_iterations", std::to_string(stall_iterations), ">= 0");
-  if (!(tangent_reuse >= 0.0 && tangent_reuse < 1.0))
-    throw InvalidValue("tangent_reuse", format_value(tangent_reuse), "in [0, 1)");
+  if (!(tangent_reuse >= 0.0 && tangent_reuse <= 0.5))  // the case files' range
+    throw InvalidValue("tangent_reuse", format_value(tangent_reuse), "in [0, 0.5]");
   if (easy_iterations < 0)
     throw InvalidValue("easy_iterations", std::to_string(easy_iterations), ">= 0");
   if (!(support_threshold >= 0.0 && support_threshold < 1.0))

@@ -248,11 +248,14 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
                          trial.path[std::size_t(i)], settings_, axisymmetric, reusable, d);
     if (source == TangentSource::reused) {
       ++reused_tangents;
-    } else if (cache != nullptr) {
-      cache->valid[std::size_t(i)] = source == TangentSource::perturbation ? 1 : 0;
-      cache->tangent[std::size_t(i)] = d;
-      cache->strain[std::size_t(i)] = strain;
-      cache->spin[std::size_t(i)] = spin;
+    } else if (cache != nullptr) {  // only a differentiated tangent is kept for reuse
+      const bool keep = source == TangentSource::perturbation;
+      cache->valid[std::size_t(i)] = keep ? 1 : 0;
+      if (keep) {
+        cache->tangent[std::size_t(i)] = d;
+        cache->strain[std::size_t(i)] = strain;
+        cache->spin[std::size_t(i)] = spin;
+      }
     }
     if (low_modulus > 0.0) d += in_plane(low_stiffness);
     // The spin terms (Settings::spin_terms): ∂σ/∂w = (∂σ/∂σ_start) ∂(R σ_n Rᵀ)/∂w with
