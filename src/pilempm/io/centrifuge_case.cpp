@@ -186,8 +186,8 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
       refuse_explicit(*t, key);
     for (const char* key :
          {"displacement_step_D", "contact_smoothing", "force_tolerance", "energy_tolerance",
-          "stall_iterations", "tangent_reuse", "low_stress_stiffness", "low_stress_pressure_Pa",
-          "low_stress_use", "inside_body_weakness"})
+          "accept_tolerance", "stall_iterations", "tangent_reuse", "low_stress_stiffness",
+          "low_stress_pressure_Pa", "low_stress_use", "inside_body_weakness"})
       if (!quasi_static && t->contains(key))
         throw t->error(key, analysis ? "applies to analysis = \"quasi-static\" only (this case "
                                        "runs analysis = \"explicit\", set by --analysis)"
@@ -201,6 +201,8 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
         t->number_or("force_tolerance", s.force_tolerance, NumberRange::closed(1e-12, 1e-3));
     if (t->contains("energy_tolerance"))
       s.energy_tolerance = t->number_or("energy_tolerance", 0.0, NumberRange::closed(1e-24, 1e-2));
+    s.accept_tolerance =
+        t->number_or("accept_tolerance", s.accept_tolerance, NumberRange::closed(0.0, 0.1));
     s.stall_iterations = t->integer_or("stall_iterations", s.stall_iterations, 0, 1000);
     s.tangent_reuse = t->number_or("tangent_reuse", s.tangent_reuse, NumberRange::closed(0.0, 0.5));
     s.low_stress_stiffness = t->number_or("low_stress_stiffness", s.low_stress_stiffness,
