@@ -265,13 +265,18 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
                  "solver.tangent_reuse", "0.5");
   expect_refused(kMohrCoulomb + std::string("[solver]\ntangent_reuse = 0.1\n"), "tangent_reuse",
                  "solver.tangent_reuse", "quasi-static");
-  // Acceptance above the force tolerance: the library's default, carried; 0 cuts such steps.
-  EXPECT_EQ(by_default.quasi_static.accept_tolerance,
-            mpm::quasi_static::Settings{}.accept_tolerance);
-  EXPECT_EQ(back.quasi_static.accept_tolerance, by_default.quasi_static.accept_tolerance);
+  // Acceptance above the force tolerance: given in the centrifuge case, carried to the MPM case
+  // file and back; 0 (never accept above the force tolerance) allowed.
   const CentrifugeScenario strict = read_centrifuge_case_text(
       quasi_static(kMohrCoulomb, "force_tolerance = 1e-5\naccept_tolerance = 1e-4\n"), "case.toml");
-  EXPECT_EQ(centrifuge_to_mpm_case(strict, "m.toml").quasi_static.accept_tolerance, 1e-4);
+  const simulation::MpmCase strict_case = centrifuge_to_mpm_case(strict, "m.toml");
+  EXPECT_EQ(strict_case.quasi_static.accept_tolerance, 1e-4);
+  EXPECT_EQ(read_mpm_case_text(centrifuge_mpm_case_text(strict_case), "mpm_case.toml")
+                .quasi_static.accept_tolerance,
+            1e-4);
+  const CentrifugeScenario never =
+      read_centrifuge_case_text(quasi_static(kMohrCoulomb, "accept_tolerance = 0\n"), "case.toml");
+  EXPECT_EQ(centrifuge_to_mpm_case(never, "m.toml").quasi_static.accept_tolerance, 0.0);
   expect_refused(quasi_static(kMohrCoulomb, "accept_tolerance = 0.2\n"), "accept_tolerance",
                  "solver.accept_tolerance", "0.1");
   expect_refused(kMohrCoulomb + std::string("[solver]\naccept_tolerance = 1e-4\n"),

@@ -97,7 +97,7 @@ class Mumps {
     id_.icntl[3] = 0;
     id_.icntl[6] = 0;  // ICNTL(7): AMD ordering, the fastest of MUMPS's on the pile's matrices
     // ICNTL(8): no scaling. MUMPS's automatic choice scales rows and columns iteratively at
-    // every factorisation (simultaneous scaling, a quarter of the factorisation's time on the
+    // every factorisation (simultaneous scaling, 12-25 % of the factorisation's time on the
     // pile's matrices); the threshold pivoting keeps the LU stable without it, and MPM-2 took
     // 3 099 Newton iterations without against 3 160 with it (docs/quasi-static.md).
     id_.icntl[7] = 0;
