@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "pilempm/constitutive/hypoplastic/hypoplastic.hpp"
@@ -655,6 +656,55 @@ TEST(HypoplasticPhysics, ExtensionLeavesAPointOnTheFloorAndCompressionBringsItBa
         "[ measured ] floor (%s): after 5 x 5e-4 isotropic compression p = %.1f Pa, e = %.4f\n",
         igs, p_previous, state.void_ratio);
     EXPECT_GT(p_previous, 100.0 * settings.min_mean_stress);
+  }
+}
+
+// Sand pulled apart sideways while it carries load vertically (heaved sand beside a pile, docs/
+// quasi-static.md "Tension cut-off"): its horizontal stress reaches zero while the others are
+// kPa. The tensile principal stress is cut off at -p_min and the others go on carrying load: the
+// update does not drop to the isotropic floor -p_min I, so the stress is a continuous function of
+// the strain increment through the cut-off (the quasi-static analysis's Newton iterations stalled
+// on that jump).
+TEST(HypoplasticPhysics, ATensilePrincipalStressIsCutOffAndTheOthersKeepCarryingLoad) {
+  for (const char* igs : {"none", "IGS1", "IGS3"}) {
+    SCOPED_TRACE(igs);
+    IntegratorSettings settings;
+    settings.min_mean_stress = 1.0;
+    const Hypoplastic model(hypoplastic_set("original"), intergranular_strain_set(igs), settings);
+    MaterialState start;
+    start.stress = diagonal6(-20.0, -3000.0, -1200.0);  // horizontal stress almost gone
+    start.void_ratio = 0.68;
+    const Vec6 direction = diagonal6(4.0e-5, -1.0e-5, 0.0);  // sideways extension
+    Vec6 previous = start.stress;
+    double largest_jump = 0.0, smallest_vertical = 0.0;
+    int cut_off = 0;
+    constexpr int kScales = 200;
+    for (int k = 1; k <= kScales; ++k) {
+      const double scale = double(k) / kScales;
+      MaterialState state = start;
+      const UpdateResult result = model.update(state, scale * direction);
+      ASSERT_TRUE(result.ok) << result.message;
+      EXPECT_EQ(result.mean_stress_floor_hits, 0) << "scale " << scale;
+      const Vec3 principal = principal_values(state.stress);
+      EXPECT_LE(principal.maxCoeff(), 0.0) << "scale " << scale;  // no tension
+      if (principal.maxCoeff() > -1.5 * settings.min_mean_stress) ++cut_off;
+      largest_jump = std::max(largest_jump, (state.stress - previous).norm());
+      previous = state.stress;
+      smallest_vertical = k == 1 ? -state.stress[1] : std::min(smallest_vertical, -state.stress[1]);
+    }
+    std::printf(
+        "[ measured ] sideways extension (%s): %d of %d increments cut off, largest change of "
+        "the stress between neighbouring increments %.1f Pa, vertical stress at least %.0f Pa\n",
+        igs, cut_off, kScales, largest_jump, smallest_vertical);
+    // With the intergranular strain (stiffer after the reversal) the path reaches the cut-off
+    // (without it the horizontal stress approaches zero but stays compressive); the stress
+    // changes by small steps along it (the isotropic floor would have dropped it from kPa to
+    // 1 Pa in one step), and the vertical stress stays.
+    if (std::string(igs) != "none") {
+      EXPECT_GT(cut_off, kScales / 4);
+    }
+    EXPECT_LT(largest_jump, 100.0);
+    EXPECT_GT(smallest_vertical, 1000.0);
   }
 }
 

@@ -244,6 +244,26 @@ bool Hypoplastic::admissible(const Point& y) const {
   return I2 >= 0.0 && determinant(c) >= 0.0;
 }
 
+bool Hypoplastic::to_domain(Point& y) const {
+  if (!y.stress.allFinite() || !std::isfinite(y.void_ratio) || !(y.void_ratio > 0.0) ||
+      !y.delta.allFinite())
+    return false;
+  const double p_min = integrator_.min_mean_stress;
+  if (-trace(y.stress) < 3.0 * p_min) return false;  // the floor's case
+  const Eigen::SelfAdjointEigenSolver<Mat3> solver(to_matrix(y.stress));
+  Vec3 values = solver.eigenvalues();
+  bool cut = false;
+  for (int i = 0; i < 3; ++i)
+    if (values[i] > -p_min) {
+      values[i] = -p_min;
+      cut = true;
+    }
+  if (!cut) return false;
+  const Mat3& directions = solver.eigenvectors();
+  y.stress = from_matrix(directions * values.asDiagonal() * directions.transpose());
+  return admissible(y);
+}
+
 double Hypoplastic::error_norm(const Point& error, const Point& y) const {
   const double stress_scale = std::max(y.stress.norm(), integrator_.min_mean_stress);
   double norm = error.stress.norm() / stress_scale;
@@ -306,6 +326,7 @@ struct Hypoplastic::Increment {
 
   Hint rate(const Point& y, Point& k) const { return model.evaluate(y, D, k); }
   bool admissible(const Point& y) const { return model.admissible(y); }
+  bool to_domain(Point& y) const { return model.to_domain(y); }
   double error_norm(const Point& error, const Point& y) const { return model.error_norm(error, y); }
   void restore_bounds(Point& y, UpdateResult& result, const Hint* nearby) const {
     model.restore_bounds(y, result, nearby);

@@ -6,8 +6,15 @@
 // error control. This file gives the integrator the rates and the edges of the model's domain.
 //
 // Treatment of the edges of the model's domain (the model is undefined at tr T = 0):
-//  * Mean stress floor. A trial sub-step that leaves the admissible stress domain (a tensile
-//    principal stress, p below p_min, or a non-finite value) is rejected and the sub-step shrunk.
+//  * Tension cut-off. A stage point with a tensile principal stress whose mean stress p is still
+//    at least p_min (sand pulled apart in one or two directions, carrying load in the others) has
+//    those principal stresses set to -p_min, the principal directions kept, and goes on from
+//    there. Before 7 December 2026 such a point went to the isotropic floor below, so that a
+//    particle carrying kPa lost all its stress when its smallest principal stress touched zero:
+//    a jump in the update that stalled the quasi-static analysis's Newton iterations
+//    (docs/quasi-static.md, "Tension cut-off").
+//  * Mean stress floor. A trial sub-step that leaves the admissible stress domain otherwise (p
+//    below p_min, or a non-finite value) is rejected and the sub-step shrunk.
 //    Once the sub-step is below `min_substep` the point has reached the stress-free limit: its
 //    stress is set to the isotropic floor -p_min I ("floor hit", counted in UpdateResult). If the
 //    rest of the increment still pulls the point apart, the point stays on the floor for the rest
@@ -89,6 +96,10 @@ class Hypoplastic final : public ConstitutiveModel {
   };
   BauerFactor evaluate(const Point& y, const Vec6& stretching, Point& rate_out) const;
   bool admissible(const Point& y) const;
+  // Tension cut-off: a point whose mean stress is at least p_min but with a tensile principal
+  // stress gets those principal stresses set to -p_min (directions kept); false where that does
+  // not bring it into the domain (mean stress below p_min, not finite, e <= 0).
+  bool to_domain(Point& y) const;
   double error_norm(const Point& error, const Point& y) const;
   // Keeps e in [e_d(p), e_i(p)] and |delta| <= R. `nearby`: Bauer's factor at a point close to y
   // (saves pow and exp where e is clearly inside the band).

@@ -7,13 +7,16 @@
 //
 // The strain increment is integrated over a pseudo-time t in [0, 1]. What the model supplies (a
 // `Problem`, see below) and what the integrator does with it:
-//  * Admissibility. A trial sub-step that leaves the model's domain (Problem::admissible false)
-//    is rejected and the sub-step shrunk by 4. Once the sub-step is below `min_substep`, the
-//    point has reached the edge of the domain: Problem::set_to_edge puts it there (for sand: the
-//    stress-free floor -p_min I, counted as a "floor hit" in UpdateResult). If the rest of the
-//    increment still leads out of the domain, the point stays on the edge for the rest of the
-//    increment while its other variables follow their rates (Problem::advance_on_edge);
-//    otherwise integration goes on. A point that starts outside the domain is put on the edge.
+//  * Admissibility. A stage point outside the model's domain (Problem::admissible false) that
+//    Problem::to_domain can bring back by a projection (for sand: a tensile principal stress
+//    while the mean stress is above the floor, cut off to the floor's value) is taken so; any
+//    other trial sub-step that leaves the domain is rejected and the sub-step shrunk by 4. Once the
+//    sub-step is below `min_substep`, the point has reached the edge of the domain:
+//    Problem::set_to_edge puts it there (for sand: the stress-free floor -p_min I, counted as a
+//    "floor hit" in UpdateResult). If the rest of the increment still leads out of the domain, the
+//    point stays on the edge for the rest of the increment while its other variables follow their
+//    rates (Problem::advance_on_edge); otherwise integration goes on. A point that starts outside
+//    the domain is put on the edge.
 //  * Bounds. After every accepted sub-step Problem::restore_bounds puts the variables back into
 //    their bounds (for sand: the void ratio band and |delta| <= R), given a `Hint` that the last
 //    rate evaluation left (a value the bounds can reuse, e.g. a factor of the stress level).
@@ -70,6 +73,7 @@ std::string_view to_string(IntegratorSettings::Scheme scheme);
 ///   Hint: what a rate evaluation leaves for restore_bounds (an empty struct if nothing).
 ///   Hint rate(const Point& y, Point& k) const;           // k = dy/dt at y
 ///   bool admissible(const Point& y) const;               // y inside the model's domain
+///   bool to_domain(Point& y) const;  // y, outside, brought back by a projection if it can be
 ///   double error_norm(const Point& error, const Point& y) const;  // relative size of error
 ///   void restore_bounds(Point& y, UpdateResult&, const Hint* nearby) const;
 ///   void set_to_edge(Point& y) const;                    // onto the edge of the domain
@@ -81,6 +85,7 @@ concept RungeKuttaProblem = requires(const Problem& problem, typename Problem::P
                                      const typename Problem::Hint* hint, double h) {
   { problem.rate(c, y) } -> std::same_as<typename Problem::Hint>;
   { problem.admissible(c) } -> std::same_as<bool>;
+  { problem.to_domain(y) } -> std::same_as<bool>;
   { problem.error_norm(c, c) } -> std::same_as<double>;
   problem.restore_bounds(y, result, hint);
   problem.set_to_edge(y);
@@ -113,11 +118,11 @@ struct RungeKuttaStages {
     if (heun) {
       // Modified Euler: y1 = y + h k1 (1st order), y2 = y + h/2 (k1 + k2) (2nd order).
       trial.assign_step(y, h, k1);
-      if (!problem.admissible(trial)) return false;
+      if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
       nearby = problem.rate(trial, k2);
       trial.assign_step(y, 0.5 * h, k1);
       trial.add(0.5 * h, k2);
-      if (!problem.admissible(trial)) return false;
+      if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
       if (error) {
         low.assign_scaled_difference(0.5 * h, k2, k1);
         *error = problem.error_norm(low, trial);
@@ -126,15 +131,15 @@ struct RungeKuttaStages {
     }
     // Bogacki & Shampine (1989) RK3(2): c = (0, 1/2, 3/4, 1), FSAL.
     trial.assign_step(y, 0.5 * h, k1);
-    if (!problem.admissible(trial)) return false;
+    if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
     problem.rate(trial, k2);
     trial.assign_step(y, 0.75 * h, k2);
-    if (!problem.admissible(trial)) return false;
+    if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
     problem.rate(trial, k3);
     trial.assign_step(y, 2.0 / 9.0 * h, k1);
     trial.add(1.0 / 3.0 * h, k2);
     trial.add(4.0 / 9.0 * h, k3);
-    if (!problem.admissible(trial)) return false;
+    if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
     nearby = problem.rate(trial, k4);
     if (error) {
       // y3 - y2 with the 2nd-order weights (7/24, 1/4, 1/3, 1/8).
@@ -164,7 +169,7 @@ UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Pro
     record->clear();
     record->replayable = true;
   }
-  if (!problem.admissible(y)) {  // starts outside the domain: onto its edge
+  if (!problem.admissible(y) && !problem.to_domain(y)) {  // starts outside: onto the edge
     if (record) record->replayable = false;
     problem.set_to_edge(y);
     ++result.mean_stress_floor_hits;
@@ -271,7 +276,7 @@ UpdateResult replay_embedded_runge_kutta(const Problem& problem, typename Proble
     result.message = "Runge-Kutta integrator: a replayed sub-step leaves the model's domain";
     return result;
   };
-  if (!path.replayable || !problem.admissible(y)) return leave();
+  if (!path.replayable || (!problem.admissible(y) && !problem.to_domain(y))) return leave();
   const bool heun = settings.scheme == IntegratorSettings::Scheme::heun_euler;
   detail::RungeKuttaStages<Problem> stages;
   bool k1_valid = false;
