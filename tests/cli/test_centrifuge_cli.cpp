@@ -317,14 +317,12 @@ TEST(CentrifugeCli, LongQuickCaseRunWritesConsistentPileForcesFieldsAndSummary) 
   EXPECT_GT(near_surface, 10u);  // the sand stays in touch with the pile
 }
 
-// The IGS study's case with IGS 3 on the quasi-static analysis: the pile starts at the sand
-// surface and is jacked 4.7 D, through sand that heaves beside it and loses its stress. It
+// The IGS study's cases with IGS 1 and IGS 3 on the quasi-static analysis: the pile starts at the
+// sand surface and is jacked 4.7 D, through sand that heaves beside it and loses its stress. IGS 3
 // stopped at 3.3 D before stress-free sand kept its volume bounded and the nodes one particle
-// alone reaches got ghost springs (docs/quasi-static.md, "Stress-free sand"). About 150 s on two
-// cores, hence Long.
-// IGS 1 stopped at 0.6 D until the sand model cut a tensile principal stress off instead of
-// sending the whole stress to the floor (docs/quasi-static.md, "Tension cut-off"); an earlier
-// build stopped IGS 3 at 3.3 D.
+// alone reaches got ghost springs (docs/quasi-static.md, "Stress-free sand"); IGS 1 stopped at
+// 0.6 D until the sand model cut a tensile principal stress off instead of sending the whole
+// stress to the floor ("Tension cut-off"). About 100 s for both on two cores, hence Long.
 TEST(CentrifugeCli, LongIgsCaseFromTheSandSurfaceRunsThroughOnTheQuasiStaticAnalysis) {
   for (const char* set : {"igs1", "igs3"}) {
     SCOPED_TRACE(set);

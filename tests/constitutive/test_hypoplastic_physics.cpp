@@ -703,6 +703,16 @@ TEST(HypoplasticPhysics, ATensilePrincipalStressIsCutOffAndTheOthersKeepCarrying
     if (std::string(igs) != "none") {
       EXPECT_GT(cut_off, kScales / 4);
     }
+    // The cut-off keeps the principal directions: the same start and increment turned by a
+    // rotation give the turned end state (the model is isotropic), shear components and all.
+    std::mt19937_64 rng(7);
+    const Mat3 turn = random_rotation(rng);
+    MaterialState straight = start, turned = start;
+    turned.stress = rotate(start.stress, turn);
+    ASSERT_TRUE(model.update(straight, direction).ok);
+    ASSERT_TRUE(model.update(turned, rotate(direction, turn)).ok);
+    EXPECT_LT(relative_difference(turned.stress, rotate(straight.stress, turn)), 1e-6);
+    EXPECT_NEAR(turned.void_ratio, straight.void_ratio, 1e-12);
     EXPECT_LT(largest_jump, 100.0);
     EXPECT_GT(smallest_vertical, 1000.0);
   }

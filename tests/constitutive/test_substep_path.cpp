@@ -82,6 +82,31 @@ TEST(SubstepPath, ReplayingTheRecordedPathGivesTheAdaptiveEndPointToTheLastBit) 
     }
 }
 
+// A path through the tension cut-off (sand pulled apart sideways while it carries load
+// vertically, docs/model.md §5) is replayable, and its replay reproduces it to the last bit.
+TEST(SubstepPath, APathThroughTheTensionCutOffIsReplayedToTheLastBit) {
+  for (Scheme scheme : {Scheme::heun_euler, Scheme::bogacki_shampine}) {
+    const Hypoplastic model = sand(scheme);
+    MaterialState start;
+    start.stress = diagonal6(-20.0, -3000.0, -1200.0);
+    start.void_ratio = 0.68;
+    const Vec6 increment = diagonal6(4.0e-5, -1.0e-5, 0.0);
+    MaterialState recorded = start, replayed = start;
+    SubstepPath path;
+    const UpdateResult recording = model.update_recording(recorded, increment, path);
+    ASSERT_TRUE(recording.ok) << recording.message;
+    EXPECT_EQ(recording.mean_stress_floor_hits, 0);
+    EXPECT_GT(principal_values(recorded.stress).maxCoeff(), -1.5);  // on the cut-off
+    ASSERT_TRUE(path.replayable);
+    const UpdateResult along = model.update_along(replayed, increment, path);
+    ASSERT_TRUE(along.ok);
+    EXPECT_EQ(along.substeps, path.substeps());
+    EXPECT_TRUE(replayed.stress == recorded.stress);
+    EXPECT_EQ(replayed.void_ratio, recorded.void_ratio);
+    EXPECT_TRUE(replayed.history == recorded.history);
+  }
+}
+
 TEST(SubstepPath, APathThatReachedTheFloorOrHasTooManyRunsIsNotReplayed) {
   const Hypoplastic model = sand(Scheme::bogacki_shampine);
   // Extension of 5 %: the sand comes apart and its stress reaches the floor.

@@ -8,11 +8,11 @@
 // Treatment of the edges of the model's domain (the model is undefined at tr T = 0):
 //  * Tension cut-off. A stage point with a tensile principal stress whose mean stress p is still
 //    at least p_min (sand pulled apart in one or two directions, carrying load in the others) has
-//    those principal stresses set to -p_min, the principal directions kept, and goes on from
-//    there. Before 7 December 2026 such a point went to the isotropic floor below, so that a
-//    particle carrying kPa lost all its stress when its smallest principal stress touched zero:
-//    a jump in the update that stalled the quasi-static analysis's Newton iterations
-//    (docs/quasi-static.md, "Tension cut-off").
+//    its principal stresses above -p_min set to -p_min (so continuous up to p_min), the principal
+//    directions kept, and goes on from there. Before 7 December 2026 such a point went to the
+//    isotropic floor below, so that a particle carrying kPa lost all its stress when its smallest
+//    principal stress touched zero: a jump in the update that stalled the quasi-static analysis's
+//    Newton iterations (docs/quasi-static.md, "Tension cut-off").
 //  * Mean stress floor. A trial sub-step that leaves the admissible stress domain otherwise (p
 //    below p_min, or a non-finite value) is rejected and the sub-step shrunk.
 //    Once the sub-step is below `min_substep` the point has reached the stress-free limit: its
@@ -97,8 +97,8 @@ class Hypoplastic final : public ConstitutiveModel {
   BauerFactor evaluate(const Point& y, const Vec6& stretching, Point& rate_out) const;
   bool admissible(const Point& y) const;
   // Tension cut-off: a point whose mean stress is at least p_min but with a tensile principal
-  // stress gets those principal stresses set to -p_min (directions kept); false where that does
-  // not bring it into the domain (mean stress below p_min, not finite, e <= 0).
+  // stress gets its principal stresses above -p_min set to -p_min (directions kept); false where
+  // that cannot bring it back (mean stress below p_min, not finite, e <= 0).
   bool to_domain(Point& y) const;
   double error_norm(const Point& error, const Point& y) const;
   // Keeps e in [e_d(p), e_i(p)] and |delta| <= R. `nearby`: Bauer's factor at a point close to y

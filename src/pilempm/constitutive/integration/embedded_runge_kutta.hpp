@@ -16,7 +16,7 @@
 //    "floor hit" in UpdateResult). If the rest of the increment still leads out of the domain, the
 //    point stays on the edge for the rest of the increment while its other variables follow their
 //    rates (Problem::advance_on_edge); otherwise integration goes on. A point that starts outside
-//    the domain is put on the edge.
+//    the domain is brought back by Problem::to_domain where it can be, else put on the edge.
 //  * Bounds. After every accepted sub-step Problem::restore_bounds puts the variables back into
 //    their bounds (for sand: the void ratio band and |delta| <= R), given a `Hint` that the last
 //    rate evaluation left (a value the bounds can reuse, e.g. a factor of the stress level).
@@ -219,7 +219,7 @@ UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Pro
       // Does the rest of the increment keep leading out? Then the point stays on the edge.
       problem.rate(y, k1);
       trial.assign_step(y, 1.0 - t, k1);
-      if (!problem.admissible(trial)) {
+      if (!problem.admissible(trial) && !problem.to_domain(trial)) {
         problem.advance_on_edge(y, 1.0 - t, k1);
         problem.restore_bounds(y, result, nullptr);
         t = 1.0;
