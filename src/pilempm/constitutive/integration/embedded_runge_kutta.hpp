@@ -103,6 +103,12 @@ inline constexpr double kStabilityFraction = 0.8;
 
 namespace detail {
 
+// Whether y lies in the problem's domain, or was brought back into it by Problem::to_domain.
+template <RungeKuttaProblem Problem>
+bool in_domain(const Problem& problem, typename Problem::Point& y) {
+  return problem.admissible(y) || problem.to_domain(y);
+}
+
 // The stages of one sub-step of either scheme, shared by the adaptive integration and the replay
 // of a recorded path (so that both take a sub-step with the same arithmetic, to the last bit).
 template <RungeKuttaProblem Problem>
@@ -118,11 +124,11 @@ struct RungeKuttaStages {
     if (heun) {
       // Modified Euler: y1 = y + h k1 (1st order), y2 = y + h/2 (k1 + k2) (2nd order).
       trial.assign_step(y, h, k1);
-      if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
+      if (!in_domain(problem, trial)) return false;
       nearby = problem.rate(trial, k2);
       trial.assign_step(y, 0.5 * h, k1);
       trial.add(0.5 * h, k2);
-      if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
+      if (!in_domain(problem, trial)) return false;
       if (error) {
         low.assign_scaled_difference(0.5 * h, k2, k1);
         *error = problem.error_norm(low, trial);
@@ -131,15 +137,15 @@ struct RungeKuttaStages {
     }
     // Bogacki & Shampine (1989) RK3(2): c = (0, 1/2, 3/4, 1), FSAL.
     trial.assign_step(y, 0.5 * h, k1);
-    if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
+    if (!in_domain(problem, trial)) return false;
     problem.rate(trial, k2);
     trial.assign_step(y, 0.75 * h, k2);
-    if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
+    if (!in_domain(problem, trial)) return false;
     problem.rate(trial, k3);
     trial.assign_step(y, 2.0 / 9.0 * h, k1);
     trial.add(1.0 / 3.0 * h, k2);
     trial.add(4.0 / 9.0 * h, k3);
-    if (!problem.admissible(trial) && !problem.to_domain(trial)) return false;
+    if (!in_domain(problem, trial)) return false;
     nearby = problem.rate(trial, k4);
     if (error) {
       // y3 - y2 with the 2nd-order weights (7/24, 1/4, 1/3, 1/8).
@@ -169,7 +175,7 @@ UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Pro
     record->clear();
     record->replayable = true;
   }
-  if (!problem.admissible(y) && !problem.to_domain(y)) {  // starts outside: onto the edge
+  if (!detail::in_domain(problem, y)) {  // starts outside: onto the edge
     if (record) record->replayable = false;
     problem.set_to_edge(y);
     ++result.mean_stress_floor_hits;
@@ -219,7 +225,7 @@ UpdateResult integrate_embedded_runge_kutta(const Problem& problem, typename Pro
       // Does the rest of the increment keep leading out? Then the point stays on the edge.
       problem.rate(y, k1);
       trial.assign_step(y, 1.0 - t, k1);
-      if (!problem.admissible(trial) && !problem.to_domain(trial)) {
+      if (!detail::in_domain(problem, trial)) {
         problem.advance_on_edge(y, 1.0 - t, k1);
         problem.restore_bounds(y, result, nullptr);
         t = 1.0;
@@ -276,7 +282,7 @@ UpdateResult replay_embedded_runge_kutta(const Problem& problem, typename Proble
     result.message = "Runge-Kutta integrator: a replayed sub-step leaves the model's domain";
     return result;
   };
-  if (!path.replayable || (!problem.admissible(y) && !problem.to_domain(y))) return leave();
+  if (!path.replayable || !detail::in_domain(problem, y)) return leave();
   const bool heun = settings.scheme == IntegratorSettings::Scheme::heun_euler;
   detail::RungeKuttaStages<Problem> stages;
   bool k1_valid = false;
