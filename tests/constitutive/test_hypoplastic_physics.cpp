@@ -718,6 +718,39 @@ TEST(HypoplasticPhysics, ATensilePrincipalStressIsCutOffAndTheOthersKeepCarrying
   }
 }
 
+// The corner of the cut-off where the domain's invariant test loses to rounding: two principal
+// stresses just below -p_min and the third of the order of GPa (far beyond sand, where it begins:
+// below 1 GPa no turned state of 1 000 rounded out), turned so that the determinant of -T (4 x
+// 10^10 Pa^3 exactly) is the small difference of terms of 10^30 and rounds negative. Every
+// principal stress is compressive, so the state lies in the domain and nothing is cut off; an
+// increment that changes next to nothing must keep it (it once went to the isotropic floor,
+// -p_min I).
+TEST(HypoplasticPhysics, AStateOutsideTheDomainOnlyByRoundingIsKept) {
+  IntegratorSettings settings;
+  settings.min_mean_stress = 1.0;
+  const Hypoplastic model(hypoplastic_set("original"), intergranular_strain_set("IGS3"), settings);
+  std::mt19937_64 rng(11);
+  int rounded_out = 0;
+  for (int k = 0; k < 200; ++k) {
+    const Vec6 stress = rotate(diagonal6(-2.0, -2.0, -1.0e10), random_rotation(rng));
+    // admissible()'s test of the invariants of -T, as it rounds.
+    const Vec6 c = -stress;
+    const double I1 = trace(c), I2 = 0.5 * (I1 * I1 - c.squaredNorm());
+    if (I2 >= 0.0 && determinant(c) >= 0.0) continue;
+    ++rounded_out;
+    MaterialState state;
+    state.stress = stress;
+    state.void_ratio = limit_void_ratios(model.parameters(), mean_stress(stress)).e_c;
+    const UpdateResult result = model.update(state, -1.0e-12 * identity6());
+    ASSERT_TRUE(result.ok) << result.message;
+    EXPECT_EQ(result.mean_stress_floor_hits, 0) << "rotation " << k;
+    EXPECT_LT(relative_difference(state.stress, stress), 1e-6) << "rotation " << k;
+  }
+  std::printf("[ measured ] %d of 200 turned states outside the domain by rounding alone\n",
+              rounded_out);
+  EXPECT_GT(rounded_out, 10);  // the corner is reached
+}
+
 TEST(HypoplasticPhysics, SeparatedSandIsCappedAtEiOfTheFloorAndTheClampIsReported) {
   IntegratorSettings settings;
   settings.min_mean_stress = 1.0;

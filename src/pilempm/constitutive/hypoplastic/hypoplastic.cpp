@@ -258,7 +258,10 @@ bool Hypoplastic::to_domain(Point& y) const {
       values[i] = -p_min;
       cut = true;
     }
-  if (!cut) return false;
+  // Nothing to cut: every principal stress is compressive and the point lies in the domain;
+  // admissible() rejected it by the rounding of its invariants alone (the third principal stress
+  // of the order of GPa).
+  if (!cut) return true;
   const Mat3& directions = solver.eigenvectors();
   y.stress = from_matrix(directions * values.asDiagonal() * directions.transpose());
   // Every principal stress is now at most -p_min by construction; admissible()'s invariant test
