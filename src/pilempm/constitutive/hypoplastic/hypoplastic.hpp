@@ -97,8 +97,10 @@ class Hypoplastic final : public ConstitutiveModel {
   BauerFactor evaluate(const Point& y, const Vec6& stretching, Point& rate_out) const;
   bool admissible(const Point& y) const;
   // Tension cut-off: a point whose mean stress is at least p_min but with a tensile principal
-  // stress gets its principal stresses above -p_min set to -p_min (directions kept); false where
-  // that cannot bring it back (mean stress below p_min, not finite, e <= 0).
+  // stress gets its principal stresses above -p_min set to -p_min (directions kept); a point
+  // with none, which admissible() rejected by the rounding of its invariants alone, is kept as
+  // it is; false where the cut-off cannot bring it back (mean stress below p_min, not finite,
+  // e <= 0).
   bool to_domain(Point& y) const;
   double error_norm(const Point& error, const Point& y) const;
   // Keeps e in [e_d(p), e_i(p)] and |delta| <= R. `nearby`: Bauer's factor at a point close to y
