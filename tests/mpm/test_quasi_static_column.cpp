@@ -67,6 +67,14 @@ Particles column_particles(const Grid& grid, double h) {
 
 // The plane-strain elastic column of `cells` cells (2 cells wide, walls and a fixed base) on a
 // solver with `settings`.
+// The contact points of a solver's run state, (x, y) per point [m].
+std::vector<double> contact_points(const QuasiStaticSolver& solver) {
+  for (const auto& [name, values] : solver.run_state().scheme_arrays)
+    if (name == "contact_corner_position_m") return values;
+  ADD_FAILURE() << "no contact points in the run state";
+  return {};
+}
+
 std::unique_ptr<QuasiStaticSolver> elastic_column(int cells, const Settings& settings) {
   const double h = kHeight / cells;
   Grid grid = column_grid(cells);
@@ -584,12 +592,7 @@ TEST(QuasiStaticColumn, ContactPointsStayNearTheirParticles) {
   const double h = kHeight / cells;
   const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, Settings{});
   QuasiStaticSolver& solver = *column;
-  const auto corners = [&]() {
-    for (const auto& [name, values] : solver.run_state().scheme_arrays)
-      if (name == "contact_corner_position_m") return values;
-    ADD_FAILURE() << "no contact points in the run state";
-    return std::vector<double>{};
-  };
+  const auto corners = [&]() { return contact_points(solver); };
   // The largest distance of a contact point beyond its particle's domain [m].
   const auto largest_excess = [&]() {
     const std::vector<double> points = corners();
@@ -676,6 +679,43 @@ TEST(QuasiStaticColumn, ABoundedContactPointIsNotMovedIntoABody) {
       EXPECT_GE(corner.y(), top);          // on the plate's top face, not inside the plate
       EXPECT_LT(corner.y(), top + 1e-12);  // and no further out than that
     }
+}
+
+// A body put where particles are (a pile wished in place) moves the contact points that start
+// inside it onto its surface along the surface's normal, to the nearest surface point, and leaves
+// the others as they are. A plate whose tilted bottom face cuts the top corners of the column's
+// top row (not their centres): drawn along the segment to the particle's centre instead, a point
+// would move sideways by about its depth; along the normal it moves by 2 % of it.
+TEST(QuasiStaticColumn,
+     AWishedInPlaceBodyPlacesTheContactPointsInsideItOnItsSurfaceAlongTheNormal) {
+  const std::unique_ptr<QuasiStaticSolver> column = elastic_column(4, Settings{});
+  QuasiStaticSolver& solver = *column;
+  const auto corners = [&]() { return contact_points(solver); };
+  const std::vector<double> before = corners();
+  // Bottom face y = 0.99 + 0.02 x: up to 0.01 m above the column's top (y = 1) at x < 0.5.
+  const RigidBody plate =
+      RigidBody::polygon({{-1.0, 0.97}, {1.0, 1.01}, {1.0, kHeight + 0.4}, {-1.0, kHeight + 0.4}});
+  solver.add_rigid_body(plate);
+  const std::vector<double> after = corners();
+  ASSERT_EQ(after.size(), before.size());
+  int inside = 0;
+  for (std::size_t c = 0; 2 * c + 1 < before.size(); ++c) {
+    const Vec2 old_point(before[2 * c], before[2 * c + 1]);
+    const Vec2 new_point(after[2 * c], after[2 * c + 1]);
+    const SurfaceQuery hit = plate.query(old_point);
+    if (!(hit.distance < 0.0)) {
+      EXPECT_EQ(new_point, old_point) << "point " << c;
+      continue;
+    }
+    ++inside;
+    const Vec2 expected = old_point - hit.distance * hit.normal;
+    EXPECT_NEAR(new_point.x(), expected.x(), 1e-15) << "point " << c;
+    EXPECT_NEAR(new_point.y(), expected.y(), 1e-15) << "point " << c;
+    EXPECT_NEAR(plate.query(new_point).distance, 0.0, 1e-15) << "point " << c;
+    EXPECT_LT(std::abs(new_point.x() - old_point.x()), 0.03 * std::abs(hit.distance))
+        << "point " << c;
+  }
+  EXPECT_GE(inside, 6);  // the top corners at x = 0 .. 0.375 of the four top particles
 }
 
 // Where a body moves, the stabilising stress resists only the change of a particle's strain
