@@ -65,8 +65,6 @@ Particles column_particles(const Grid& grid, double h) {
       grid, Geometry::plane_strain, test_support::block_fill(0.0, 2.0 * h, 0.0, kHeight, kDensity));
 }
 
-// The plane-strain elastic column of `cells` cells (2 cells wide, walls and a fixed base) on a
-// solver with `settings`.
 // The contact points of a solver's run state, (x, y) per point [m].
 std::vector<double> contact_points(const QuasiStaticSolver& solver) {
   for (const auto& [name, values] : solver.run_state().scheme_arrays)
@@ -75,6 +73,8 @@ std::vector<double> contact_points(const QuasiStaticSolver& solver) {
   return {};
 }
 
+// The plane-strain elastic column of `cells` cells (2 cells wide, walls and a fixed base) on a
+// solver with `settings`.
 std::unique_ptr<QuasiStaticSolver> elastic_column(int cells, const Settings& settings) {
   const double h = kHeight / cells;
   Grid grid = column_grid(cells);
@@ -592,10 +592,9 @@ TEST(QuasiStaticColumn, ContactPointsStayNearTheirParticles) {
   const double h = kHeight / cells;
   const std::unique_ptr<QuasiStaticSolver> column = elastic_column(cells, Settings{});
   QuasiStaticSolver& solver = *column;
-  const auto corners = [&]() { return contact_points(solver); };
   // The largest distance of a contact point beyond its particle's domain [m].
   const auto largest_excess = [&]() {
-    const std::vector<double> points = corners();
+    const std::vector<double> points = contact_points(solver);
     const Particles& p = solver.particles();
     double excess = 0.0;
     for (std::size_t c = 0; 2 * c + 1 < points.size(); ++c) {
@@ -621,7 +620,7 @@ TEST(QuasiStaticColumn, ContactPointsStayNearTheirParticles) {
   nothing.gravity_multiplier = 0.0;
   const LoadStepResult still = solver.solve_step(nothing);
   ASSERT_TRUE(still.converged) << still.message;
-  const std::vector<double> restored = corners();
+  const std::vector<double> restored = contact_points(solver);
   const Vec2& x = solver.particles().position[0];
   const double reach = solver.particles().half_size[0].norm();
   ASSERT_LT(reach, h);
@@ -690,13 +689,12 @@ TEST(QuasiStaticColumn,
      AWishedInPlaceBodyPlacesTheContactPointsInsideItOnItsSurfaceAlongTheNormal) {
   const std::unique_ptr<QuasiStaticSolver> column = elastic_column(4, Settings{});
   QuasiStaticSolver& solver = *column;
-  const auto corners = [&]() { return contact_points(solver); };
-  const std::vector<double> before = corners();
+  const std::vector<double> before = contact_points(solver);
   // Bottom face y = 0.99 + 0.02 x: up to 0.01 m above the column's top (y = 1) at x < 0.5.
   const RigidBody plate =
       RigidBody::polygon({{-1.0, 0.97}, {1.0, 1.01}, {1.0, kHeight + 0.4}, {-1.0, kHeight + 0.4}});
   solver.add_rigid_body(plate);
-  const std::vector<double> after = corners();
+  const std::vector<double> after = contact_points(solver);
   ASSERT_EQ(after.size(), before.size());
   int inside = 0;
   for (std::size_t c = 0; 2 * c + 1 < before.size(); ++c) {

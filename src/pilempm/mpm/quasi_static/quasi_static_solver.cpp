@@ -187,9 +187,9 @@ int QuasiStaticSolver::add_rigid_body(RigidBody body) {
   // of strain and force (as an initial overclosure is adjusted in finite element contact): moved
   // along the surface's normal to its nearest point. (Drawing them along the segment to their
   // particle's centre instead made the quick case's load-test capacity move by 11 % from D/6 to
-  // D/8, against 2.7 % with the normal; docs/quasi-static.md, "Contact with the exact
-  // surface".) bound_corners never draws a point deeper into a body than it was, so a point
-  // placed on the surface stays outside.
+  // D/8, against 2.7 % with the normal; docs/quasi-static.md, "The placement at a
+  // wished-in-place body and the mesh".) bound_corners never draws a point deeper into a body than
+  // it was, so a point placed on the surface stays outside.
   for (Vec2& corner : corner_position_) {
     const SurfaceQuery hit = body.query(corner);
     if (hit.distance < 0.0) corner -= hit.distance * hit.normal;
