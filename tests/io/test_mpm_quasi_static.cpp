@@ -136,11 +136,11 @@ TEST(QuasiStaticMpmCase, PlateLandsOnItsDisplacementGoalWithTheForcesInBalance) 
   // 4.5 mm in steps of at most 1 mm, with the records every 0.5 mm as further step ends.
   EXPECT_GE(ends[0].steps, 5);
   EXPECT_NE(ends[1].reason.find("stop_force_y_below_N"), std::string::npos) << ends[1].reason;
-  // The lift ends where the force crosses 1 kN, found by bisecting the load step (about 4 kN
-  // per 1 mm step here, so 2.4e-4 of a step is about 1 N).
+  // The lift ends where the force crosses 1 kN, found within 2.4e-4 of the load step's change
+  // of force (about 9.3 kN in the step here: 2.3 N) on the side that meets the rule.
   const double force = scheme.state().rigid_body_force(0).total.y();
   EXPECT_LT(force, 1000.0);
-  EXPECT_GT(force, 995.0);
+  EXPECT_GT(force, 1000.0 - 2.3);
   // Equilibrium at the end of every load step to the Newton tolerance (1e-6 of the forces).
   EXPECT_GT(balance.records(), 10);
   EXPECT_LT(balance.worst(), 1e-5);
@@ -198,9 +198,12 @@ TEST(QuasiStaticMpmCase, LoadStepsFileHasOneRowPerLoadStepWithItsNewtonWork) {
     EXPECT_GT(std::stoi(rows[k][11]), 0);
     const int solves = std::stoi(rows[k][3]);
     if (solves == 1) continue;
-    // The lift's last step, where the force crosses 1 kN: solved, bisected 12 times, solved
-    // again at the crossing.
-    EXPECT_EQ(solves, 14);
+    // The lift's last step, where the force crosses 1 kN: solved, then solved again at
+    // shorter lengths by regula falsi until the force lies within 2.4e-4 of the step's change
+    // of force (here the plate leaves the sand within the step: the force is not linear in the
+    // length). A bisection to that resolution takes 14 solves.
+    EXPECT_GE(solves, 2);
+    EXPECT_LE(solves, 8);
     EXPECT_EQ(k + 1, rows.size());
     EXPECT_EQ(rows[k][2], c.phases[1].name);
     ++bisected;

@@ -157,6 +157,13 @@ int MpmPhaseControl::met_rule(int landing_rule) const {
   return -1;
 }
 
+double MpmPhaseControl::force_margin(int rule) const {
+  const MpmStopRule& r = phase_.stop_rules.at(static_cast<std::size_t>(rule));
+  const double force = (state_.rigid_body_force(phase_.stop_body).total *
+                        mpm_full_body_factor(case_.geometry))[r.component];
+  return r.quantity == MpmStopQuantity::force_below ? force - r.value : r.value - force;
+}
+
 std::string MpmPhaseControl::stop_reason(int landing_rule) const {
   const int k = met_rule(landing_rule);
   if (k < 0) return "";

@@ -57,6 +57,10 @@ class MpmPhaseControl {
   std::string stop_reason(int landing_rule = -1) const;
   /// The stop rule met after a step (-1: none), as stop_reason() finds it.
   int met_rule(int landing_rule = -1) const;
+  /// For a force rule: how far the stop body's force is now from meeting it [N], negative
+  /// where it is met (force_below: force − value; force_above: value − force). It reads the
+  /// body's force of the state as it is, not the moving average.
+  double force_margin(int rule) const;
 
   /// How far the phase is: the largest of the fraction of its duration and, for each
   /// displacement stop rule, the fraction of the way from the phase start to its goal.

@@ -92,9 +92,12 @@ bool is_force_rule(const MpmStopRule& rule) {
          rule.quantity == MpmStopQuantity::force_above;
 }
 
-// Halvings of a load step in which a force rule is first met: the crossing is found to
-// 2^-12 = 2.4e-4 of the step.
-constexpr int kForceBisections = 12;
+// A load step in which a force rule is first met is re-solved at shorter lengths until the
+// force lies within 2^-12 = 2.4e-4 of the step's change of force of the rule's value (on the side
+// that meets it), or the bracket of the crossing is 2^-12 of the step wide, in at most this many
+// solves.
+constexpr int kForceSolves = 12;
+constexpr double kForceResolution = 1.0 / 4096.0;
 
 }  // namespace
 
@@ -134,7 +137,12 @@ Advance QuasiStaticScheme::advance(double target) {
   const bool force_rules =
       std::any_of(phase.stop_rules.begin(), phase.stop_rules.end(), is_force_rule);
   std::optional<SavedState> start;
-  if (force_rules) start = save(solver_);
+  std::vector<double> start_margin(phase.stop_rules.size(), 0.0);
+  if (force_rules) {
+    start = save(solver_);
+    for (std::size_t k = 0; k < phase.stop_rules.size(); ++k)
+      if (is_force_rule(phase.stop_rules[k])) start_margin[k] = control_->force_margin(int(k));
+  }
   solve_load_step(duration);
   Advance advance;
   advance.dt = duration;
@@ -142,17 +150,49 @@ Advance QuasiStaticScheme::advance(double target) {
   const int rule = control_->met_rule(plan.landing_rule);
   if (rule >= 0 && start && is_force_rule(phase.stop_rules[static_cast<std::size_t>(rule)]) &&
       plan.landing_rule < 0) {
-    // Met within this step, not at its start (else the phase would have ended): bisect on the
-    // step's length for where the force crosses the rule's value.
+    // Met within this step, not at its start (else the phase would have ended): find where
+    // the force crosses the rule's value along the step's length by the Illinois variant of
+    // regula falsi (Dowell & Jarratt 1971, BIT 11), which keeps the crossing bracketed and
+    // converges superlinearly; the force of a load step's end is close to linear in its length,
+    // so a few solves replace the bisection's thirteen.
     double met = 1.0, not_met = 0.0;
-    for (int k = 0; k < kForceBisections; ++k) {
-      const double middle = 0.5 * (met + not_met);
+    double met_margin = control_->force_margin(rule);  // negative: met
+    // The secant's values: the margins, with the Illinois halvings. A rule already met at the
+    // step's start (in a phase's first step, before any force was compared) is bisected.
+    double met_value = met_margin, not_met_value = start_margin[static_cast<std::size_t>(rule)];
+    const bool secant = not_met_value > 0.0;
+    const double resolution = secant ? kForceResolution * (not_met_value - met_value) : 0.0;
+    bool at_met = true;  // whether the solver's state is the one at `met`
+    int replaced = 0;    // the end the last solve replaced: +1 met, -1 not met
+    for (int k = 0; k < kForceSolves && -met_margin > resolution; ++k) {
+      if (met - not_met <= kForceResolution) break;
+      double length = 0.5 * (met + not_met);
+      if (secant) {  // within the bracket, by at least a small share of it from either end
+        const double inset = 0.01 * (met - not_met);
+        length =
+            std::clamp((not_met * met_value - met * not_met_value) / (met_value - not_met_value),
+                       not_met + inset, met - inset);
+      }
       restore(solver_, *start);
-      solve_load_step(middle * duration);
-      (control_->met_rule() >= 0 ? met : not_met) = middle;
+      solve_load_step(length * duration);
+      const double f = control_->force_margin(rule);
+      at_met = f < 0.0;
+      if (at_met) {
+        met = length;
+        met_margin = met_value = f;
+        if (replaced == 1) not_met_value *= 0.5;
+        replaced = 1;
+      } else {
+        not_met = length;
+        not_met_value = f;
+        if (replaced == -1) met_value *= 0.5;
+        replaced = -1;
+      }
     }
-    restore(solver_, *start);
-    solve_load_step(met * duration);
+    if (!at_met) {
+      restore(solver_, *start);
+      solve_load_step(met * duration);
+    }
     advance.dt = met * duration;
     // Short of the target unless the crossing lies at the step's very end.
     advance.at_target = advance.at_target && met == 1.0;
