@@ -126,6 +126,7 @@ void expect_same_case(const MpmCase& typed, const MpmCase& read) {
   EXPECT_EQ(q.accept_tolerance, u.accept_tolerance);
   EXPECT_EQ(q.stall_iterations, u.stall_iterations);
   EXPECT_EQ(q.tangent_reuse, u.tangent_reuse);
+  EXPECT_EQ(q.midpoint_strain, u.midpoint_strain);
   EXPECT_EQ(q.linear_solver, u.linear_solver);
   EXPECT_EQ(q.contact.penalty_factor, u.contact.penalty_factor);
   const mpm::SolverSettings &s = typed.solver, &t = read.solver;

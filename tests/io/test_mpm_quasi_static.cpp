@@ -388,6 +388,20 @@ TEST(QuasiStaticMpmCase, NewtonsTolerancesAndStallRuleAreKeys) {
       read_error(replaced(column_case(), "threads = 1", "threads = 1\ntangent_reuse = -0.1"));
   EXPECT_NE(reuse_message.find("solver.tangent_reuse"), std::string::npos) << reuse_message;
   EXPECT_NE(reuse_message.find("[0, 0.5]"), std::string::npos) << reuse_message;
+  // strain_increment: the midpoint configuration's by default, or the start configuration's;
+  // a case written out keeps it.
+  EXPECT_TRUE(plain.midpoint_strain);
+  EXPECT_FALSE(settings("strain_increment = \"start\"").midpoint_strain);
+  EXPECT_FALSE(read_mpm_case_text(mpm_case_text(read_mpm_case_text(
+                                      replaced(column_case(), "threads = 1",
+                                               "threads = 1\nstrain_increment = \"start\""),
+                                      "case.toml")),
+                                  "written.toml")
+                   .quasi_static.midpoint_strain);
+  const std::string measure_message =
+      read_error(replaced(column_case(), "threads = 1", "threads = 1\nstrain_increment = \"end\""));
+  EXPECT_NE(measure_message.find("solver.strain_increment"), std::string::npos) << measure_message;
+  EXPECT_NE(measure_message.find("midpoint"), std::string::npos) << measure_message;
   EXPECT_EQ(plain.stall_iterations, 0);
   EXPECT_EQ(settings("stall_iterations = 5").stall_iterations, 5);
   std::string message =

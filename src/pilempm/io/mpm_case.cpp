@@ -90,6 +90,7 @@ const std::vector<std::string> kQuasiStaticOnlyKeys = {"displacement_step_m",
                                                        "accept_after_iterations",
                                                        "stall_iterations",
                                                        "tangent_reuse",
+                                                       "strain_increment",
                                                        "linear_solver",
                                                        "contact_penalty_factor",
                                                        "newton_step_limit_cells",
@@ -161,6 +162,8 @@ void read_solver(std::optional<TableReader> solver, MpmCase& c) {
   q.stall_iterations = solver->integer_or("stall_iterations", q.stall_iterations, 0, 1000);
   q.tangent_reuse =
       solver->number_or("tangent_reuse", q.tangent_reuse, NumberRange::closed(0.0, 0.5));
+  if (auto measure = solver->optional_choice("strain_increment", {"midpoint", "start"}))
+    q.midpoint_strain = *measure == "midpoint";
   if (auto linear = solver->optional_choice("linear_solver", linear_solver_names())) {
     q.linear_solver = *mpm::quasi_static::linear_solver_from_string(*linear);
     if (!mpm::quasi_static::linear_solver_available(q.linear_solver))

@@ -239,6 +239,7 @@ void write_solver(TomlText& t, const MpmCase& c) {
   t.integer("accept_after_iterations", q.accept_after);
   t.integer("stall_iterations", q.stall_iterations);
   t.number("tangent_reuse", q.tangent_reuse);
+  t.text("strain_increment", q.midpoint_strain ? "midpoint" : "start");
   // Only when not this build's default (a file that names a solver needs a build with it).
   if (q.linear_solver != mpm::quasi_static::Settings{}.linear_solver)
     t.text("linear_solver", mpm::quasi_static::to_string(q.linear_solver));

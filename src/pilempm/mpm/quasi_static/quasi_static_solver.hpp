@@ -139,6 +139,11 @@ struct Settings {
   /// large against the modulus (an elastic pile push then converged linearly, 8 iterations a
   /// step, against 2-3 with it; docs/quasi-static.md, "The spin terms"). On by default.
   bool spin_terms = true;
+  /// Whether a load step's strain and spin increments are taken on the increment's midpoint
+  /// configuration (Hughes & Winget 1980; midpoint_strain.hpp), a second-order approximation of
+  /// the logarithmic strain, or on its start configuration (sym G, first-order: a rotation by θ
+  /// gives a spurious normal strain of −θ²/2).
+  bool midpoint_strain = true;
   /// A particle whose update ends on the model's mean stress floor (hypoplasticity in tension:
   /// the stress no longer changes with the strain) or whose perturbed update leaves the model's
   /// domain gets, in the Newton matrix only, an isotropic elastic stiffness (ν = 0.3) of this

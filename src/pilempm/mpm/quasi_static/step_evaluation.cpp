@@ -11,6 +11,7 @@
 #include "pilempm/constitutive/linear_elastic/linear_elastic.hpp"
 #include "pilempm/core/error.hpp"
 #include "pilempm/mpm/in_plane_rotation.hpp"
+#include "pilempm/mpm/quasi_static/midpoint_strain.hpp"
 #include "pilempm/mpm/quasi_static/step_data.hpp"
 
 namespace pilempm::mpm::quasi_static {
@@ -162,6 +163,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
            contact_modulus_[std::size_t(p.material[std::size_t(i)])];
   };
   const bool averaging = settings_.volumetric_averaging;
+  const bool midpoint = settings_.midpoint_strain;
   const double normal_components = axisymmetric ? 3.0 : 2.0;
   // The share of the reference's body motion this sub-increment repeats (signed; 0 without).
   double repeat = 0.0;
@@ -193,12 +195,35 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       strain[k22] += correction;
       if (axisymmetric) strain[k33] += correction;
     }
+    double spin = 0.5 * (gradient(1, 0) - gradient(0, 1));
+    // The increments on the midpoint configuration (Settings::midpoint_strain), and their
+    // derivative with respect to the linear ones, for the Newton matrix's chain rule.
+    detail::Mat5 midpoint_jacobian;
+    if (midpoint) {
+      detail::Vec5 linear;
+      linear << strain[k11], strain[k22], strain[k33], strain[k12], spin;
+      if (!detail::has_midpoint(linear)) {
+        failed = true;
+#pragma omp critical(quasi_static_failed_update)
+        if (trial.failed_particle < 0 || i < trial.failed_particle) {
+          trial.failed_particle = i;
+          trial.failure = "the iterate turns the particle inside out";
+        }
+        continue;
+      }
+      const detail::Vec5 mid =
+          detail::midpoint_increments(linear, tangent ? &midpoint_jacobian : nullptr);
+      strain[k11] = mid[0];
+      strain[k22] = mid[1];
+      strain[k33] = mid[2];
+      strain[k12] = mid[3];
+      spin = mid[4];
+    }
     trial.gradient[std::size_t(i)] = gradient;
     trial.hoop[std::size_t(i)] = hoop;
     trial.strain_increment[std::size_t(i)] = strain;
     // Hughes-Winget: rotate the converged state by the spin, then integrate the increment.
     MaterialState rotated = p.state[std::size_t(i)];
-    const double spin = 0.5 * (gradient(1, 0) - gradient(0, 1));
     const ConstitutiveModel& model = *materials_[std::size_t(p.material[std::size_t(i)])];
     if (spin != 0.0) rotate_state_about_z(rotated, spin, model.history_variables());
     MaterialState& state = trial.state[std::size_t(i)];
@@ -267,6 +292,14 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     if (settings_.spin_terms && !on_floor) {
       const Vec6 turn = rotation_derivative_about_z(rotated.stress, spin);
       for (int r = 0; r < 4; ++r) spin_column[r] = turn[kComponents[r]];
+    }
+    if (midpoint) {  // the stress's derivative with respect to the linear increments
+      Eigen::Matrix<double, 4, 5> chained;
+      chained.leftCols<4>() = d;
+      chained.col(4) = spin_column;
+      chained = (chained * midpoint_jacobian).eval();
+      d = chained.leftCols<4>();
+      spin_column = chained.col(4);
     }
   }
   result.seconds_material += seconds_since(material_start);
