@@ -265,6 +265,19 @@ TEST(CentrifugeCaseModels, QuasiStaticAnalysisTakesTheNewtonTolerance) {
                  "solver.tangent_reuse", "0.5");
   expect_refused(kMohrCoulomb + std::string("[solver]\ntangent_reuse = 0.1\n"), "tangent_reuse",
                  "solver.tangent_reuse", "quasi-static");
+  // Newton's step limit: on in a centrifuge case (off in the library), carried to the MPM case
+  // file and back; 0 turns it off.
+  EXPECT_EQ(by_default.quasi_static.step_limit, CentrifugeScenario{}.newton_step_limit_cells);
+  EXPECT_GT(by_default.quasi_static.step_limit, 0.0);
+  EXPECT_EQ(mpm::quasi_static::Settings{}.step_limit, 0.0);
+  EXPECT_EQ(back.quasi_static.step_limit, by_default.quasi_static.step_limit);
+  const CentrifugeScenario no_limit = read_centrifuge_case_text(
+      quasi_static(kMohrCoulomb, "newton_step_limit_cells = 0\n"), "case.toml");
+  EXPECT_EQ(centrifuge_to_mpm_case(no_limit, "m.toml").quasi_static.step_limit, 0.0);
+  expect_refused(quasi_static(kMohrCoulomb, "newton_step_limit_cells = -1\n"),
+                 "newton_step_limit_cells", "solver.newton_step_limit_cells", "100");
+  expect_refused(kMohrCoulomb + std::string("[solver]\nnewton_step_limit_cells = 1\n"),
+                 "newton_step_limit_cells", "solver.newton_step_limit_cells", "quasi-static");
   // Acceptance above the force tolerance: given in the centrifuge case, carried to the MPM case
   // file and back; 0 (never accept above the force tolerance) allowed.
   const CentrifugeScenario strict = read_centrifuge_case_text(

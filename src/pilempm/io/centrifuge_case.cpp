@@ -184,10 +184,10 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
     for (const char* key :
          {"mass_scaling", "courant_number", "flip_fraction", "xpic_order", "local_damping"})
       refuse_explicit(*t, key);
-    for (const char* key :
-         {"displacement_step_D", "contact_smoothing", "force_tolerance", "energy_tolerance",
-          "accept_tolerance", "stall_iterations", "tangent_reuse", "low_stress_stiffness",
-          "low_stress_pressure_Pa", "low_stress_use", "inside_body_weakness"})
+    for (const char* key : {"displacement_step_D", "contact_smoothing", "force_tolerance",
+                            "energy_tolerance", "accept_tolerance", "stall_iterations",
+                            "tangent_reuse", "newton_step_limit_cells", "low_stress_stiffness",
+                            "low_stress_pressure_Pa", "low_stress_use", "inside_body_weakness"})
       if (!quasi_static && t->contains(key))
         throw t->error(key, analysis ? "applies to analysis = \"quasi-static\" only (this case "
                                        "runs analysis = \"explicit\", set by --analysis)"
@@ -205,6 +205,8 @@ CentrifugeScenario read_centrifuge_case_text(std::string_view text, const std::s
         t->number_or("accept_tolerance", s.accept_tolerance, NumberRange::closed(0.0, 0.1));
     s.stall_iterations = t->integer_or("stall_iterations", s.stall_iterations, 0, 1000);
     s.tangent_reuse = t->number_or("tangent_reuse", s.tangent_reuse, NumberRange::closed(0.0, 0.5));
+    s.newton_step_limit_cells = t->number_or("newton_step_limit_cells", s.newton_step_limit_cells,
+                                             NumberRange::closed(0.0, 100.0));
     s.low_stress_stiffness = t->number_or("low_stress_stiffness", s.low_stress_stiffness,
                                           NumberRange::closed(0.0, 10.0));
     s.low_stress_pressure_Pa = t->number_or("low_stress_pressure_Pa", s.low_stress_pressure_Pa,

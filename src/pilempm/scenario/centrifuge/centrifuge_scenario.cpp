@@ -250,6 +250,7 @@ simulation::MpmCase centrifuge_case(const CentrifugeScenario& s, const std::stri
     c.quasi_static.stall_iterations = s.stall_iterations;
     c.quasi_static.accept_tolerance = v(s.accept_tolerance);
     c.quasi_static.tangent_reuse = v(s.tangent_reuse);
+    c.quasi_static.step_limit = v(s.newton_step_limit_cells);
     c.quasi_static.energy_tolerance =
         v(s.energy_tolerance.value_or(mpm::quasi_static::energy_tolerance_for(s.force_tolerance)));
     c.quasi_static.low_stress_stiffness = v(s.low_stress_stiffness);

@@ -89,6 +89,14 @@ struct CentrifugeScenario {
   /// (mpm::quasi_static::Settings::tangent_reuse; quasi-static analysis only): while a particle's
   /// strain increment has changed by at most this fraction; 0: none.
   double tangent_reuse = mpm::quasi_static::Settings{}.tangent_reuse;
+  /// Newton's step limit in cells (mpm::quasi_static::Settings::step_limit; quasi-static
+  /// analysis only): a Newton step that moves a grid node by more than this many cells is
+  /// scaled down to it; 0: none. One cell by default: where the pile reverses (the
+  /// relaxation's first load step, the load test's reloading), a first Newton step of up to 14
+  /// cells at grid nodes inside the pile had made MPM-2 at D/8 spend 601 iterations and 15 cuts
+  /// in two such load steps; with the limit 21 and none (docs/centrifuge.md, "Newton's step
+  /// limit").
+  double newton_step_limit_cells = 1.0;
   /// The low-stress stabilisation (mpm::quasi_static::Settings::low_stress_stiffness and
   /// low_stress_pressure; quasi-static analysis only, docs/centrifuge.md): 0, none; by default
   /// η = 3 only in a load step that fails without it (low_stress_use): MPM-3 stopped at 7.0 D
