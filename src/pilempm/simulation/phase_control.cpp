@@ -11,6 +11,16 @@
 
 namespace pilempm::simulation {
 
+namespace {
+
+// How far `force` is from meeting a force rule [N], negative where it is met.
+double rule_margin(const MpmStopRule& rule, const mpm::Vec2& force) {
+  const double f = force[rule.component];
+  return rule.quantity == MpmStopQuantity::force_below ? f - rule.value : rule.value - f;
+}
+
+}  // namespace
+
 double mpm_full_body_factor(mpm::Geometry geometry) {
   return geometry == mpm::Geometry::axisymmetric ? 2.0 * kPi : 1.0;
 }
@@ -150,18 +160,15 @@ int MpmPhaseControl::met_rule(int landing_rule) const {
       continue;
     }
     if (!has_mean_force_) continue;  // no step of this phase yet
-    const double force = mean_force_[i];
-    if (rule.quantity == MpmStopQuantity::force_below ? force < rule.value : force > rule.value)
-      return static_cast<int>(k);
+    if (rule_margin(rule, mean_force_) < 0.0) return static_cast<int>(k);
   }
   return -1;
 }
 
 double MpmPhaseControl::force_margin(int rule) const {
-  const MpmStopRule& r = phase_.stop_rules.at(static_cast<std::size_t>(rule));
-  const double force = (state_.rigid_body_force(phase_.stop_body).total *
-                        mpm_full_body_factor(case_.geometry))[r.component];
-  return r.quantity == MpmStopQuantity::force_below ? force - r.value : r.value - force;
+  return rule_margin(
+      phase_.stop_rules.at(static_cast<std::size_t>(rule)),
+      state_.rigid_body_force(phase_.stop_body).total * mpm_full_body_factor(case_.geometry));
 }
 
 std::string MpmPhaseControl::stop_reason(int landing_rule) const {

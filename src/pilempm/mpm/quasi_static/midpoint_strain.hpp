@@ -22,20 +22,28 @@ namespace pilempm::mpm::quasi_static::detail {
 using Vec5 = Eigen::Matrix<double, 5, 1>;
 using Mat5 = Eigen::Matrix<double, 5, 5>;
 
+/// det G of the linear increments `e`: G_xx G_yy − G_xy G_yx, with G_xy G_yx = e12²/2 − w².
+inline double gradient_determinant(const Vec5& e) {
+  return e[0] * e[1] - 0.5 * e[3] * e[3] + e[4] * e[4];
+}
+
+/// det(I + G/2) = 1 + ½ tr G + ¼ det G, given det G.
+inline double midpoint_determinant(const Vec5& e, double det) {
+  return 1.0 + 0.5 * (e[0] + e[1]) + 0.25 * det;
+}
+
 /// Whether the midpoint configuration of the linear increments `e` exists: det(I + G/2) > 0
 /// and 1 + h/2 > 0 (an increment that turns the particle inside out has none).
 inline bool has_midpoint(const Vec5& e) {
-  const double det = e[0] * e[1] - 0.5 * e[3] * e[3] + e[4] * e[4];
-  return 1.0 + 0.5 * (e[0] + e[1]) + 0.25 * det > 0.0 && 1.0 + 0.5 * e[2] > 0.0;
+  return midpoint_determinant(e, gradient_determinant(e)) > 0.0 && 1.0 + 0.5 * e[2] > 0.0;
 }
 
 /// The midpoint increments (Δε_11, Δε_22, Δε_33, √2 Δε_12, w) of the linear ones `e` (above),
 /// and, when `jacobian` is given, their derivative with respect to `e`.
 inline Vec5 midpoint_increments(const Vec5& e, Mat5* jacobian = nullptr) {
   const double e11 = e[0], e22 = e[1], h = e[2], e12 = e[3], w = e[4];
-  // det G = G_xx G_yy − G_xy G_yx, G_xy G_yx = e12²/2 − w².
-  const double det = e11 * e22 - 0.5 * e12 * e12 + w * w;
-  const double m = 1.0 + 0.5 * (e11 + e22) + 0.25 * det;
+  const double det = gradient_determinant(e);
+  const double m = midpoint_determinant(e, det);
   const double hoop_scale = 1.0 / (1.0 + 0.5 * h);
   Vec5 result;
   result << (e11 + 0.5 * det) / m, (e22 + 0.5 * det) / m, h * hoop_scale, e12 / m, w / m;

@@ -160,6 +160,16 @@ struct QuasiStaticSolver::Trial {
   long failed_particle = -1;  // the first particle whose stress update failed, or -1
   const char* failure = "";   // its model's reason
 
+  // Records a particle whose update failed, from the evaluation's parallel particle loop: the
+  // one with the smallest index is kept, whatever the threads' order.
+  void record_failure(long particle, const char* reason) {
+#pragma omp critical(quasi_static_failed_update)
+    if (failed_particle < 0 || particle < failed_particle) {
+      failed_particle = particle;
+      failure = reason;
+    }
+  }
+
   // The Newton matrix's values into `matrix`, a copy of the set-up's pattern.
   void fill(SparseMatrix& matrix) const {
     double* value = matrix.valuePtr();

@@ -204,11 +204,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       linear << strain[k11], strain[k22], strain[k33], strain[k12], spin;
       if (!detail::has_midpoint(linear)) {
         failed = true;
-#pragma omp critical(quasi_static_failed_update)
-        if (trial.failed_particle < 0 || i < trial.failed_particle) {
-          trial.failed_particle = i;
-          trial.failure = "the iterate turns the particle inside out";
-        }
+        trial.record_failure(i, "the iterate turns the particle inside out");
         continue;
       }
       const detail::Vec5 mid =
@@ -232,11 +228,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       const UpdateResult update = model.update_recording(state, strain, trial.path[std::size_t(i)]);
       if (!update.ok) {
         failed = true;
-#pragma omp critical(quasi_static_failed_update)
-        if (trial.failed_particle < 0 || i < trial.failed_particle) {
-          trial.failed_particle = i;
-          trial.failure = update.message;
-        }
+        trial.record_failure(i, update.message);
         continue;
       }
       trial.on_floor[std::size_t(i)] = update.mean_stress_floor_hits > 0 ? 1 : 0;
