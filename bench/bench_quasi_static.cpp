@@ -104,6 +104,7 @@ void apply_environment(Settings& settings) {
   if (const char* v = std::getenv("QS_BBAR")) settings.volumetric_averaging = std::atoi(v) != 0;
   if (const char* v = std::getenv("QS_STEP_LIMIT")) settings.step_limit = std::atof(v);
   if (const char* v = std::getenv("QS_FLOOR_STIFFNESS")) settings.floor_stiffness = std::atof(v);
+  if (const char* v = std::getenv("QS_APEX_STIFFNESS")) settings.apex_stiffness = std::atof(v);
   if (const char* v = std::getenv("QS_FORCE_TOLERANCE")) settings.force_tolerance = std::atof(v);
   if (const char* v = std::getenv("QS_MAX_ITERATIONS")) settings.max_iterations = std::atoi(v);
   if (const char* v = std::getenv("QS_ACCEPT")) settings.accept_tolerance = std::atof(v);

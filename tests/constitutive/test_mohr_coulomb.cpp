@@ -364,6 +364,36 @@ TEST(MohrCoulomb, ElasticBelowYieldEqualsHooke) {
   }
 }
 
+// UpdateResult::at_apex says when the stress was returned to an apex (where it no longer
+// changes with the strain): Mohr-Coulomb's without a cut-off, the cut-off's with one; not for
+// an elastic step or a return to a plane.
+TEST(MohrCoulomb, AnUpdateSaysWhenItReturnedToAnApex) {
+  const auto update = [](const MohrCoulomb& model, double mean_strain, double shear_strain,
+                         Vec6& stress) {
+    MaterialState state;
+    state.stress = diagonal6(-20e3, -20e3, -20e3);
+    state.void_ratio = 0.65;
+    const Vec6 strain =
+        diagonal6(mean_strain + shear_strain, mean_strain - shear_strain, mean_strain);
+    const UpdateResult result = model.update(state, strain);
+    EXPECT_TRUE(result.ok);
+    stress = state.stress;
+    return result.at_apex;
+  };
+  Vec6 stress;
+  const MohrCoulomb no_cutoff(make(1e3, 33, 5));
+  // Pulled apart by 1e-3 in every direction (about 50 kPa of tension at E = 50 MPa).
+  EXPECT_TRUE(update(no_cutoff, 1e-3, 0.0, stress));
+  EXPECT_NEAR((stress - Vec6(diagonal6(1.0, 1.0, 1.0) * make(1e3, 33, 5).apex_stress())).norm(),
+              0.0, 1e-6);
+  EXPECT_FALSE(update(no_cutoff, -1e-5, 0.0, stress));   // compressed a little: elastic
+  EXPECT_FALSE(update(no_cutoff, -2e-3, 6e-3, stress));  // sheared under compression: a plane
+  EXPECT_LT(std::abs(no_cutoff.mohr_coulomb_function(stress)), 1e-6 * stress.norm());
+  const MohrCoulomb with_cutoff(make(10e3, 30, 5, 2e3));
+  EXPECT_TRUE(update(with_cutoff, 1e-3, 0.0, stress));
+  EXPECT_NEAR((stress - diagonal6(2e3, 2e3, 2e3)).norm(), 0.0, 1e-6);
+}
+
 TEST(MohrCoulomb, TangentIsElasticAndWaveModulusIsConstrainedModulus) {
   const MohrCoulomb model(make(10e3, 30, 5));
   MaterialState state;

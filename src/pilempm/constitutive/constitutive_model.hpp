@@ -18,7 +18,10 @@ struct UpdateResult {
   int rejected_substeps = 0;       ///< sub-steps rejected by the error control
   int mean_stress_floor_hits = 0;  ///< times the stress was set to the floor p_min (see model doc)
   double void_ratio_excess = 0.0;  ///< largest relative distance e left its band before clamping
-  const char* message = "";        ///< why it failed (static text), empty when ok
+  /// The update returned the stress to an apex of the yield surface (Mohr-Coulomb's, or its
+  /// tension cut-off's), where the stress no longer changes with the strain.
+  bool at_apex = false;
+  const char* message = "";  ///< why it failed (static text), empty when ok
 };
 
 /// The sub-steps an update by sub-stepping took (the accepted steps of its integrator, as fractions

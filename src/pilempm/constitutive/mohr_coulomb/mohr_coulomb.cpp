@@ -231,6 +231,9 @@ UpdateResult MohrCoulomb::update(MaterialState& state, const Vec6& strain_increm
     const Vec3 relaxed = sorted - returned.stress;
     const Vec3 relaxed_dev = relaxed - Vec3::Constant(relaxed.sum() / 3.0);
     plastic_shear = std::sqrt(2.0 / 3.0) * relaxed_dev.norm() / (2.0 * shear_);
+    // At an apex the returned stress is fixed: it no longer changes with the strain.
+    result.at_apex =
+        returned.region == ReturnRegion::apex || returned.region == ReturnRegion::tension_apex;
   }
   const double void_ratio = state.void_ratio + (1.0 + state.void_ratio) * trace(strain_increment);
   if (!stress.allFinite() || !std::isfinite(void_ratio)) {

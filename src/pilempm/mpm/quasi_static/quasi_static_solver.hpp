@@ -155,6 +155,16 @@ struct Settings {
   /// modulus is a thousandth of the sand's at depth, and the nodes it alone reaches had next to
   /// no stiffness (docs/quasi-static.md, "Stress-free sand").
   double floor_stiffness = 1.0e-3;
+  /// The same for a particle whose update ended at an apex of its yield surface (Mohr-Coulomb's:
+  /// cohesionless sand at the free surface and behind a pile's shoulder), as a fraction of the
+  /// same modulus. Such a particle answers a compression with its full elastic stiffness at
+  /// once; with no stand-in, the nodes it alone supports have only the ghost springs, and
+  /// Newton's steps throw them. Iterations per step of the Mohr-Coulomb pile push from the
+  /// surface (bench_quasi_static, 8 steps to 0.4 D, 4 at D/14) at D/4, 6, 8, 10, 14: without the
+  /// apex treated so 4.5, 11.2, 12.9, 25.6, 20.0; with this default 4.8, 6.6, 7.4, 14.1, 8.2;
+  /// 0.03 and more failed at D/4, the full modulus took 155 at D/10 (docs/quasi-static.md,
+  /// "Sand at the Mohr-Coulomb apex").
+  double apex_stiffness = 0.01;
   /// A particle whose update ends on the stress floor keeps a volume ratio J = V / V_0 of at
   /// most this: above it, its deformation gradient and hoop stretch are scaled isotropically
   /// to it (limit_volume_ratio). Sand without stress is loose grains; as a continuum it opened

@@ -45,6 +45,9 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// Trial::on_floor's values.
+constexpr char kNotFixed = 0, kOnFloor = 1, kAtApex = 2;
+
 // The weights of a particle's stencil as a flat list of nodes (row-major over the stencil).
 struct ParticleNodes {
   int count = 0;
@@ -150,13 +153,15 @@ struct QuasiStaticSolver::Trial {
   // The stresses above are those of the iterate in node_displacement (a successful evaluation),
   // with on_floor per particle: an evaluation of the same iterate for its matrix reuses them.
   bool has_states = false;
+  // Per particle, whether its update ended with a stress that no longer changes with the strain:
+  // kOnFloor (the model's mean stress floor), kAtApex (an apex of its yield surface), kNotFixed.
   std::vector<char> on_floor;
   /// The low-stress stabilisation's stress of each particle (Settings::low_stress_stiffness),
   /// added to the model's in the internal force; not kept past the sub-increment. Empty without
   /// the stabilisation.
   std::vector<Vec6> stabilising_stress;
   double reference_force = 0.0;
-  int floor_particles = 0;    // stress updates that ended on the model's mean stress floor
+  int floor_particles = 0;    // stress updates that ended on the floor or at an apex
   long failed_particle = -1;  // the first particle whose stress update failed, or -1
   const char* failure = "";   // its model's reason
 

@@ -37,21 +37,24 @@ enum class TangentSource {
 
 // The material part of a particle's Newton matrix d (in-plane): the derivative of its integrated
 // update `state` (from `rotated` over `strain`) with respect to the strain. Where it would be
-// differentiated (no closed form), `reusable`, where given, is taken instead.
+// differentiated (no closed form), `reusable`, where given, is taken instead. `fixed`: where the
+// update ended with a stress that no longer changes with the strain (Trial::on_floor).
 TangentSource material_tangent(const ConstitutiveModel& model, const MaterialState& converged,
                                const MaterialState& rotated, const MaterialState& state,
-                               const Vec6& strain, bool on_floor, double reference_modulus,
+                               const Vec6& strain, char fixed, double reference_modulus,
                                const SubstepPath& path, const Settings& settings, bool axisymmetric,
                                const Mat4* reusable, Mat4& d) {
-  // On the stress floor the integrated update does not change with the strain (a zero
-  // derivative would leave the nodes such particles alone support without stiffness): a small
-  // isotropic elastic stiffness instead (Settings::floor_stiffness), in the matrix only, of the
-  // material's reference modulus (a stress-free hypoplastic particle's own is 10⁻³ of it).
+  // On the stress floor or at an apex the integrated update does not change with the strain (a
+  // zero derivative would leave the nodes such particles alone support without stiffness): a
+  // small isotropic elastic stiffness instead, in the matrix only, of the material's reference
+  // modulus (a stress-free hypoplastic particle's own is 10⁻³ of it): Settings::floor_stiffness
+  // of it on the floor, Settings::apex_stiffness at an apex.
   const auto elastic_fallback = [&] {
-    d = in_plane(isotropic_stiffness(settings.floor_stiffness *
-                                     std::max(model.wave_modulus(converged), reference_modulus)));
+    const double fraction = fixed == kAtApex ? settings.apex_stiffness : settings.floor_stiffness;
+    d = in_plane(
+        isotropic_stiffness(fraction * std::max(model.wave_modulus(converged), reference_modulus)));
   };
-  if (on_floor) {
+  if (fixed != kNotFixed) {
     elastic_fallback();
     return TangentSource::closed_form;
   }
@@ -231,9 +234,11 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         trial.record_failure(i, update.message);
         continue;
       }
-      trial.on_floor[std::size_t(i)] = update.mean_stress_floor_hits > 0 ? 1 : 0;
+      trial.on_floor[std::size_t(i)] = update.mean_stress_floor_hits > 0 ? kOnFloor
+                                       : update.at_apex                  ? kAtApex
+                                                                         : kNotFixed;
     }
-    const bool on_floor = trial.on_floor[std::size_t(i)] != 0;
+    const bool on_floor = trial.on_floor[std::size_t(i)] != kNotFixed;
     if (on_floor) ++floor_particles;
     // Low-stress stabilisation (Settings::low_stress_stiffness): weighted by the converged mean
     // stress, so the set and the weights stay fixed over the sub-increment's iterations.
@@ -259,10 +264,10 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
       if (change <= reuse * reuse * strain.squaredNorm())
         reusable = &cache->tangent[std::size_t(i)];
     }
-    const TangentSource source =
-        material_tangent(model, p.state[std::size_t(i)], rotated, state, strain, on_floor,
-                         contact_modulus_[std::size_t(p.material[std::size_t(i)])],
-                         trial.path[std::size_t(i)], settings_, axisymmetric, reusable, d);
+    const TangentSource source = material_tangent(
+        model, p.state[std::size_t(i)], rotated, state, strain, trial.on_floor[std::size_t(i)],
+        contact_modulus_[std::size_t(p.material[std::size_t(i)])], trial.path[std::size_t(i)],
+        settings_, axisymmetric, reusable, d);
     if (source == TangentSource::reused) {
       ++reused_tangents;
     } else if (cache != nullptr) {  // only a differentiated tangent is kept for reuse
