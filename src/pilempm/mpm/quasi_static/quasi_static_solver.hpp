@@ -165,7 +165,7 @@ struct Settings {
   /// 0.03 and more failed at D/4, the full modulus took 155 at D/10 (docs/quasi-static.md,
   /// "Sand at the Mohr-Coulomb apex").
   double apex_stiffness = 0.01;
-  /// A particle whose update ends on the stress floor keeps a volume ratio J = V / V_0 of at
+  /// A particle whose update ends on the stress floor or at an apex keeps J = V / V_0 at
   /// most this: above it, its deformation gradient and hoop stretch are scaled isotropically
   /// to it (limit_volume_ratio). Sand without stress is loose grains; as a continuum it opened
   /// without bound where Newton iterates pulled its nodes apart (beside the IGS case's pile, a
