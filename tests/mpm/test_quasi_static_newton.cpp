@@ -35,6 +35,15 @@ struct LameResult {
   bool converged = false;
 };
 
+// Load step `step` of a pile push from the surface: step 0 settles the sand under gravity, each
+// later one pushes the pile by D/20.
+LoadStep pile_push_step(const PileProblem& problem, int step) {
+  LoadStep load;
+  load.gravity_multiplier = problem.gravity_multiplier;
+  load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
+  return load;
+}
+
 LameResult run_lame(int cells) {
   const double h = (kOuter - kInner) / cells;
   Grid grid(GridAxis::uniform(kInner - 2.0 * h, kOuter + 2.0 * h, cells + 4),
@@ -338,14 +347,11 @@ TEST(QuasiStaticNewton, TheMatrixIsTheResidualsDerivativeOnThePilePush) {
     problem.model = pile_mohr_coulomb_sand();
     problem.settings.contact.turning_terms = turning;
     QuasiStaticSolver solver = problem.build();
-    LoadStep load;
-    load.gravity_multiplier = problem.gravity_multiplier;
     for (int step = 0; step <= 6; ++step) {
-      load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
-      ASSERT_TRUE(solver.solve_step(load).converged) << "step " << step;
+      ASSERT_TRUE(solver.solve_step(pile_push_step(problem, step)).converged) << "step " << step;
     }
     ASSERT_GT(solver.body_force(0).total.y(), 0.0);  // the cone is in the sand
-    const TangentCheck check = solver.check_tangent(load);
+    const TangentCheck check = solver.check_tangent(pile_push_step(problem, 6));
     std::printf(
         "turning terms %s: matrix against differences: total %.2e, material %.2e, "
         "contact %.2e (%d unknowns)\n",
@@ -376,12 +382,9 @@ TEST(QuasiStaticNewton, MohrCoulombSandAtTheApexGetsAStandInStiffness) {
     problem.settings.apex_stiffness = apex_stiffness;
     problem.settings.threads = 2;
     QuasiStaticSolver solver = problem.build();
-    LoadStep load;
-    load.gravity_multiplier = problem.gravity_multiplier;
     Outcome out;
     for (int step = 0; step <= 8; ++step) {
-      load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
-      const LoadStepResult r = solver.solve_step(load);
+      const LoadStepResult r = solver.solve_step(pile_push_step(problem, step));
       EXPECT_TRUE(r.converged) << "step " << step << ": " << r.message;
       out.iterations += r.iterations;
       for (const SubIncrementRecord& record : r.sub_increments)
@@ -434,12 +437,9 @@ TEST(QuasiStaticNewton, WithTheSpinTermsTheElasticPilePushConvergesQuadratically
     problem.settings.stall_iterations = 0;
     problem.settings.max_iterations = 40;
     QuasiStaticSolver solver = problem.build();
-    LoadStep load;
-    load.gravity_multiplier = problem.gravity_multiplier;
     Outcome out;
     for (int step = 0; step <= 6; ++step) {
-      load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
-      const LoadStepResult r = solver.solve_step(load);
+      const LoadStepResult r = solver.solve_step(pile_push_step(problem, step));
       EXPECT_TRUE(r.converged) << "step " << step << ": " << r.message;
       if (step == 0) continue;
       out.iterations += r.iterations;
@@ -448,7 +448,7 @@ TEST(QuasiStaticNewton, WithTheSpinTermsTheElasticPilePushConvergesQuadratically
       for (const IterationRecord& it : record.iterations)
         out.residuals.push_back(it.residual_norm / record.reference_force);
     }
-    out.check = solver.check_tangent(load);
+    out.check = solver.check_tangent(pile_push_step(problem, 6));
     return out;
   };
   const Outcome with = push(true), without = push(false);
@@ -488,13 +488,10 @@ TEST(QuasiStaticNewton, AStepAboveTheToleranceIsAcceptedBelowTheAcceptToleranceE
     problem.settings.max_cuts = 0;
     problem.settings.accept_tolerance = accept_tolerance;
     QuasiStaticSolver solver = problem.build();
-    LoadStep load;
-    load.gravity_multiplier = problem.gravity_multiplier;
     accepted = 0;
     largest = 0.0;
     for (int step = 0; step <= 8; ++step) {
-      load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
-      const LoadStepResult r = solver.solve_step(load);
+      const LoadStepResult r = solver.solve_step(pile_push_step(problem, step));
       if (!r.converged) return false;
       accepted += r.accepted;
       largest = std::max(largest, r.largest_accepted_residual);
@@ -525,13 +522,10 @@ TEST(QuasiStaticNewton, ASubIncrementWhoseForceHasConvergedIsNotCountedAsAccepte
   // above the force tolerance).
   problem.settings.apex_stiffness = 0.0;
   QuasiStaticSolver solver = problem.build();
-  LoadStep load;
-  load.gravity_multiplier = problem.gravity_multiplier;
   const double tolerance = problem.settings.force_tolerance;
   int force_converged = 0, accepted = 0;
   for (int step = 0; step <= 10; ++step) {
-    load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
-    const LoadStepResult r = solver.solve_step(load);
+    const LoadStepResult r = solver.solve_step(pile_push_step(problem, step));
     ASSERT_TRUE(r.converged) << r.message;
     for (const SubIncrementRecord& sub : r.sub_increments) {
       if (sub.iterations.empty()) continue;
@@ -567,12 +561,9 @@ TEST(QuasiStaticNewton, AcceptAfterEndsASubIncrementOnceBelowTheAcceptTolerance)
     problem.settings.threads = 1;
     problem.settings.accept_after = accept_after;
     QuasiStaticSolver solver = problem.build();
-    LoadStep load;
-    load.gravity_multiplier = problem.gravity_multiplier;
     Push result;
     for (int step = 0; step <= 12; ++step) {
-      load.body_displacement = {Vec2(0.0, step == 0 ? 0.0 : -problem.diameter / 20.0)};
-      const LoadStepResult r = solver.solve_step(load);
+      const LoadStepResult r = solver.solve_step(pile_push_step(problem, step));
       EXPECT_TRUE(r.converged) << r.message;
       result.iterations += r.iterations;
       EXPECT_LE(r.largest_accepted_residual, problem.settings.accept_tolerance);
@@ -620,9 +611,7 @@ TEST(QuasiStaticNewton, AStalledSubIncrementIsGivenUpBeforeMaxIterations) {
     problem.settings.max_cuts = 0;
     problem.settings.stall_iterations = stall;
     QuasiStaticSolver solver = problem.build();
-    LoadStep load;
-    load.gravity_multiplier = problem.gravity_multiplier;
-    return solver.solve_step(load);
+    return solver.solve_step(pile_push_step(problem, 0));
   };
   const LoadStepResult off = geostatic(0), on = geostatic(3);
   std::printf(

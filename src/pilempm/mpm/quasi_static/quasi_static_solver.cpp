@@ -599,7 +599,7 @@ void QuasiStaticSolver::commit(const StepSetup& setup, const std::vector<double>
     Mat2& deformation = p.deformation_gradient[i];
     deformation = (Mat2::Identity() + trial.gradient[i]) * deformation;
     p.out_of_plane_stretch[i] *= 1.0 + trial.hoop[i];
-    if (settings_.floor_volume_ratio > 0.0 && trial.on_floor[i] != 0)
+    if (settings_.floor_volume_ratio > 0.0 && trial.fixed_stress[i] != kNotFixed)
       limit_volume_ratio(deformation, p.out_of_plane_stretch[i], settings_.floor_volume_ratio,
                          settings_.geometry == Geometry::axisymmetric);
     p.volume[i] = deformation.determinant() * p.out_of_plane_stretch[i] * p.initial_volume[i];

@@ -45,7 +45,7 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Trial::on_floor's values.
+// Trial::fixed_stress's values.
 constexpr char kNotFixed = 0, kOnFloor = 1, kAtApex = 2;
 
 // The weights of a particle's stencil as a flat list of nodes (row-major over the stencil).
@@ -151,11 +151,11 @@ struct QuasiStaticSolver::Trial {
   std::vector<Entry> contact_entries, ghost_entries;
   bool has_matrix = false;
   // The stresses above are those of the iterate in node_displacement (a successful evaluation),
-  // with on_floor per particle: an evaluation of the same iterate for its matrix reuses them.
+  // with fixed_stress per particle: an evaluation of the same iterate for its matrix reuses them.
   bool has_states = false;
   // Per particle, whether its update ended with a stress that no longer changes with the strain:
   // kOnFloor (the model's mean stress floor), kAtApex (an apex of its yield surface), kNotFixed.
-  std::vector<char> on_floor;
+  std::vector<char> fixed_stress;
   /// The low-stress stabilisation's stress of each particle (Settings::low_stress_stiffness),
   /// added to the model's in the internal force; not kept past the sub-increment. Empty without
   /// the stabilisation.

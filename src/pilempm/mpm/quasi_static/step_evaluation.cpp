@@ -38,7 +38,7 @@ enum class TangentSource {
 // The material part of a particle's Newton matrix d (in-plane): the derivative of its integrated
 // update `state` (from `rotated` over `strain`) with respect to the strain. Where it would be
 // differentiated (no closed form), `reusable`, where given, is taken instead. `fixed`: where the
-// update ended with a stress that no longer changes with the strain (Trial::on_floor).
+// update ended with a stress that no longer changes with the strain (Trial::fixed_stress).
 TangentSource material_tangent(const ConstitutiveModel& model, const MaterialState& converged,
                                const MaterialState& rotated, const MaterialState& state,
                                const Vec6& strain, char fixed, double reference_modulus,
@@ -112,7 +112,8 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
 
   // The iterate this trial was last evaluated at, evaluated again for its matrix: its stresses
   // stand (the model updates are not repeated, only the tangents are added).
-  bool reuse_states = tangent && trial.has_states && trial.on_floor.size() == std::size_t(count) &&
+  bool reuse_states = tangent && trial.has_states &&
+                      trial.fixed_stress.size() == std::size_t(count) &&
                       trial.node_displacement.size() == std::size_t(nodes);
   for (int n = 0; n < nodes && reuse_states; ++n)
     for (int c = 0; c < 2; ++c) {
@@ -129,7 +130,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     }
   trial.state.resize(std::size_t(count));
   trial.path.resize(std::size_t(count));
-  trial.on_floor.resize(std::size_t(count));
+  trial.fixed_stress.resize(std::size_t(count));
   trial.strain_increment.resize(std::size_t(count));
   // Empty without the low-stress stabilisation (the common case): nothing to add per particle.
   const bool stabilising = stabilisation_on() && stabilisation_scale_ > 0.0;
@@ -234,12 +235,12 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         trial.record_failure(i, update.message);
         continue;
       }
-      trial.on_floor[std::size_t(i)] = update.mean_stress_floor_hits > 0 ? kOnFloor
-                                       : update.at_apex                  ? kAtApex
-                                                                         : kNotFixed;
+      trial.fixed_stress[std::size_t(i)] = update.mean_stress_floor_hits > 0 ? kOnFloor
+                                           : update.at_apex                  ? kAtApex
+                                                                             : kNotFixed;
     }
-    const bool on_floor = trial.on_floor[std::size_t(i)] != kNotFixed;
-    if (on_floor) ++floor_particles;
+    const bool fixed = trial.fixed_stress[std::size_t(i)] != kNotFixed;
+    if (fixed) ++floor_particles;
     // Low-stress stabilisation (Settings::low_stress_stiffness): weighted by the converged mean
     // stress, so the set and the weights stay fixed over the sub-increment's iterations.
     const double low_modulus = low_stress_modulus(i);
@@ -265,7 +266,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
         reusable = &cache->tangent[std::size_t(i)];
     }
     const TangentSource source = material_tangent(
-        model, p.state[std::size_t(i)], rotated, state, strain, trial.on_floor[std::size_t(i)],
+        model, p.state[std::size_t(i)], rotated, state, strain, trial.fixed_stress[std::size_t(i)],
         contact_modulus_[std::size_t(p.material[std::size_t(i)])], trial.path[std::size_t(i)],
         settings_, axisymmetric, reusable, d);
     if (source == TangentSource::reused) {
@@ -286,7 +287,7 @@ bool QuasiStaticSolver::evaluate(const StepSetup& setup, const std::vector<doubl
     // has the floor stiffness alone (material_tangent).
     Vec4& spin_column = trial.spin_tangent[std::size_t(i)];
     spin_column.setZero();
-    if (settings_.spin_terms && !on_floor) {
+    if (settings_.spin_terms && !fixed) {
       const Vec6 turn = rotation_derivative_about_z(rotated.stress, spin);
       for (int r = 0; r < 4; ++r) spin_column[r] = turn[kComponents[r]];
     }

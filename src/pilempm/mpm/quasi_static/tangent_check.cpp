@@ -185,7 +185,7 @@ void QuasiStaticSolver::trace_tangent_along(const StepSetup& setup, const std::v
                    "increment| %.3g, floor %d\n",
                    k, particles.position[k].x(), particles.position[k].y(), entries[w].error,
                    -(s[k11] + s[k22] + s[k33]) / 3.0e3, at.strain_increment[k].norm(),
-                   int(at.on_floor[k]));
+                   int(at.fixed_stress[k]));
     }
   };
   worst_particles("along the step", minus, plus, 2.0 * scale);
