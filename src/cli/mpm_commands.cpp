@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -92,6 +93,18 @@ void run_mpm(const MpmRunFlags& flags) {
                           summary.newton_rescued)
             : std::string(),
         summary.max_penetration);
+  if (summary.analysis == simulation::MpmAnalysis::quasi_static) {
+    const auto& counts = summary.linear_counts;
+    fmt::print(
+        "linear solver {}: {} factorisations, {} solves{}\n", summary.linear_solver,
+        counts.factorisations, counts.solves,
+        counts.precision_solves > 0
+            ? fmt::format(" ({:.2f} single-precision solves each; {} LUs redone in double "
+                          "precision)",
+                          double(counts.precision_solves) / double(std::max(counts.solves, 1L)),
+                          counts.double_fallbacks)
+            : std::string());
+  }
   fmt::print(
       "done: {} steps to t = {:.6g} s in {:.2f} s wall; {} snapshots in {}, energies in "
       "{}{}\n",

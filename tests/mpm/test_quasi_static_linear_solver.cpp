@@ -1,6 +1,8 @@
 // The quasi-static analysis's sparse direct solvers (linear_solver.hpp): every backend this build
 // has solves an unsymmetric system to round-off, refactorises new values on a kept pattern, and
-// reports a singular matrix instead of returning a solution.
+// reports a singular matrix instead of returning a solution; the mixed-precision MUMPS refines its
+// single-precision solutions to the stated residual, and falls back to a double-precision LU
+// where the matrix is too ill-conditioned for single precision.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -86,12 +88,13 @@ TEST(QuasiStaticLinearSolver, ASingularMatrixIsReportedNotSolved) {
 }
 
 TEST(QuasiStaticLinearSolver, TheDefaultIsTheFastestTheBuildHasAndAMissingOneIsRefused) {
-  const LinearSolverKind best = mumps_available()     ? LinearSolverKind::mumps
+  const LinearSolverKind best = mumps_available()     ? LinearSolverKind::mumps_mixed
                                 : umfpack_available() ? LinearSolverKind::umfpack
                                                       : LinearSolverKind::sparse_lu;
   EXPECT_EQ(default_linear_solver(), best);
   EXPECT_EQ(Settings{}.linear_solver, best);
-  for (const LinearSolverKind kind : {LinearSolverKind::umfpack, LinearSolverKind::mumps}) {
+  for (const LinearSolverKind kind :
+       {LinearSolverKind::umfpack, LinearSolverKind::mumps, LinearSolverKind::mumps_mixed}) {
     if (linear_solver_available(kind)) continue;
     LinearSolver solver;
     EXPECT_THROW(solver.set_kind(kind), InvalidValue) << to_string(kind);
@@ -99,6 +102,82 @@ TEST(QuasiStaticLinearSolver, TheDefaultIsTheFastestTheBuildHasAndAMissingOneIsR
     settings.linear_solver = kind;
     EXPECT_THROW(settings.validate(), InvalidValue) << to_string(kind);
   }
+}
+
+// A 1D Laplacian with Neumann ends (singular: the constant is its null vector) plus `shift` on
+// the diagonal and an upwind term: cond ~ 4 / shift, unsymmetric.
+SparseMatrix shifted_neumann_chain(int n, double shift) {
+  std::vector<Eigen::Triplet<double>> entries;
+  for (int i = 0; i < n; ++i) {
+    double diagonal = shift;
+    if (i > 0) {
+      entries.emplace_back(i, i - 1, -1.2);
+      diagonal += 1.2;
+    }
+    if (i + 1 < n) {
+      entries.emplace_back(i, i + 1, -0.8);
+      diagonal += 0.8;
+    }
+    entries.emplace_back(i, i, diagonal);
+  }
+  SparseMatrix matrix(n, n);
+  matrix.setFromTriplets(entries.begin(), entries.end());
+  matrix.makeCompressed();
+  return matrix;
+}
+
+double relative_residual(const SparseMatrix& a, const Eigen::VectorXd& x,
+                         const Eigen::VectorXd& b) {
+  return (b - a * x).norm() / b.norm();
+}
+
+TEST(QuasiStaticLinearSolver, MixedPrecisionRefinesItsSingleLuToTheStatedResidual) {
+  if (!mumps_available()) GTEST_SKIP() << "this build has no MUMPS";
+  const SparseMatrix matrix = convection_diffusion(30, 1.0);
+  const Eigen::VectorXd b = matrix * Eigen::VectorXd::LinSpaced(matrix.rows(), 1.0, 2.0);
+  LinearSolver solver;
+  solver.set_kind(LinearSolverKind::mumps_mixed);
+  ASSERT_TRUE(solver.factorize(matrix, true));
+  const Eigen::VectorXd x = solver.solve(b);
+  EXPECT_LE(relative_residual(matrix, x, b), kRefinementTolerance);
+  // A single-precision solve alone leaves about 1e-7 (float's round-off): the refinement ran, and
+  // on this well-conditioned matrix without the double-precision LU.
+  EXPECT_GE(solver.counts().precision_solves, 2);
+  EXPECT_LE(solver.counts().precision_solves, kMaxRefinementSolves);
+  EXPECT_EQ(solver.counts().double_fallbacks, 0);
+  EXPECT_EQ(solver.counts().factorisations, 1);
+  EXPECT_EQ(solver.counts().solves, 1);
+}
+
+TEST(QuasiStaticLinearSolver, MixedPrecisionFallsBackToDoubleWhereSingleCannotConverge) {
+  if (!mumps_available()) GTEST_SKIP() << "this build has no MUMPS";
+  // cond ~ 1e11: single precision's LU (round-off 6e-8) cannot refine it, double's (1e-16) can.
+  const SparseMatrix matrix = shifted_neumann_chain(200, 1.0e-11);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(matrix.rows(), -1.0, 1.0);
+  LinearSolver mixed, exact;
+  mixed.set_kind(LinearSolverKind::mumps_mixed);
+  exact.set_kind(LinearSolverKind::mumps);
+  ASSERT_TRUE(mixed.factorize(matrix, true));
+  ASSERT_TRUE(exact.factorize(matrix, true));
+  const Eigen::VectorXd x = mixed.solve(b);
+  EXPECT_EQ(mixed.counts().double_fallbacks, 1);
+  // The solution is huge (b is not orthogonal to the near null space), so no LU reaches 1e-10
+  // ||b||: the answer is the double-precision LU's, to its backward error.
+  const Eigen::VectorXd reference = exact.solve(b);
+  EXPECT_GT(relative_residual(matrix, reference, b), kRefinementTolerance);
+  EXPECT_LT(relative_error(x, reference), 1e-9);
+  const auto backward_error = [&](const Eigen::VectorXd& y, const Eigen::VectorXd& rhs) {
+    return (rhs - matrix * y).norm() / (matrix.norm() * y.norm() + rhs.norm());
+  };
+  EXPECT_LT(backward_error(x, b), 1e-14);
+  // The double-precision LU serves the matrix's next solves; a new matrix tries single again.
+  const Eigen::VectorXd other = Eigen::VectorXd::Ones(matrix.rows());
+  EXPECT_LT(backward_error(mixed.solve(other), other), 1e-14);
+  EXPECT_EQ(mixed.counts().double_fallbacks, 1);
+  const SparseMatrix easy = shifted_neumann_chain(200, 1.0);
+  ASSERT_TRUE(mixed.factorize(easy, false));
+  EXPECT_LE(relative_residual(easy, mixed.solve(b), b), kRefinementTolerance);
+  EXPECT_EQ(mixed.counts().double_fallbacks, 1);
 }
 
 }  // namespace

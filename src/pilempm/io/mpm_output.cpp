@@ -545,6 +545,9 @@ MpmRunSummary run_mpm_case(const MpmCase& c, const std::filesystem::path& out_di
     summary.newton_stabilised = quasi_static->total_stabilised();
     summary.newton_rescued = quasi_static->total_rescued();
     summary.max_penetration = quasi_static->max_penetration();
+    summary.linear_solver =
+        mpm::quasi_static::to_string(quasi_static->solver().linear_solver_kind());
+    summary.linear_counts = quasi_static->solver().linear_counts();
   }
   return summary;
 }

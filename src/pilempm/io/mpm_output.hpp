@@ -13,6 +13,7 @@
 
 #include "pilempm/io/vtu_writer.hpp"
 #include "pilempm/mpm/mpm_state.hpp"
+#include "pilempm/mpm/quasi_static/linear_solver.hpp"
 #include "pilempm/simulation/mpm_case.hpp"
 #include "pilempm/simulation/run_loop.hpp"
 
@@ -94,6 +95,9 @@ struct MpmRunSummary {
   long newton_stabilised = 0;
   long newton_rescued = 0;  ///< load steps finished with the stabilisation after their cuts
   double max_penetration = 0.0;
+  /// The linear solver ("mumps-mixed", ...) and its work over the run.
+  std::string linear_solver;
+  mpm::quasi_static::LinearSolverCounts linear_counts;
 };
 
 /// State of a caller's own (a scenario's observers': the pile recorded so far, its checks) that

@@ -404,6 +404,10 @@ class QuasiStaticSolver final : public MpmState {
   /// The Newton matrix of the last iteration (free components of the active nodes), for
   /// inspection of its conditioning.
   const SparseMatrix& last_matrix() const { return last_matrix_; }
+  /// The linear solver's work so far (factorisations, solves, mixed precision's refinements and
+  /// fallbacks to double precision).
+  const LinearSolverCounts& linear_counts() const { return linear_solver_.counts(); }
+  LinearSolverKind linear_solver_kind() const { return linear_solver_.kind(); }
 
  private:
   struct Trial;         // the per-particle results of one evaluation of an iterate
