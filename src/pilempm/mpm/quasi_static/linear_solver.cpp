@@ -196,7 +196,7 @@ class MixedMumps {
  public:
   bool factorize(const SparseMatrix& matrix, bool new_pattern, LinearSolverCounts& counts) {
     matrix_ = matrix;
-    matrix_norm_ = matrix_.norm();
+    matrix_norm_ = -1.0;  // taken when first needed
     if (new_pattern) double_analysed_ = false;
     single_usable_ = single_.factorize(matrix, new_pattern);
     if (single_usable_) return true;
@@ -206,19 +206,18 @@ class MixedMumps {
   Eigen::VectorXd solve(const Eigen::VectorXd& b, LinearSolverCounts& counts) {
     if (b.size() == 0) return b;
     if (single_usable_) {
-      // The goal: the stated fraction of ||b||, or where that is below what any LU in double
-      // precision gives (a backward error of about √n ε ||A|| ||x||, Higham 2002 §9; a nearly
-      // singular matrix whose solution is large), that.
-      const double floor =
-          std::sqrt(double(b.size())) * std::numeric_limits<double>::epsilon() * matrix_norm_;
       Eigen::VectorXd x = Eigen::VectorXd::Zero(b.size());
-      const auto goal = [&] { return std::max(kRefinementTolerance * b.norm(), floor * x.norm()); };
+      // The goal: the stated fraction of ||b||, or, where that is below what any LU in double
+      // precision gives (a nearly singular matrix whose solution is large), a backward error of
+      // √n ε ||A||_F ||x|| (Higham 2002 §9).
+      const double wanted = kRefinementTolerance * b.norm();
+      const auto reached = [&](double norm) {
+        return norm <= wanted || norm <= double_precision_floor() * x.norm();
+      };
       Eigen::VectorXd residual = b;
+      double norm = b.norm(), last = std::numeric_limits<double>::infinity();
       std::vector<float> correction(std::size_t(b.size()));
-      double last = std::numeric_limits<double>::infinity();
-      for (int solve = 0; solve < kMaxRefinementSolves; ++solve) {
-        const double norm = residual.norm();
-        if (norm <= goal()) return x;
+      for (int solve = 0; solve < kMaxRefinementSolves && !reached(norm); ++solve) {
         if (!(norm < 0.5 * last)) break;  // not converging (or not finite)
         last = norm;
         for (std::size_t i = 0; i < correction.size(); ++i)
@@ -228,8 +227,9 @@ class MixedMumps {
         for (std::size_t i = 0; i < correction.size(); ++i)
           x[Eigen::Index(i)] += double(correction[i]);
         residual.noalias() = b - matrix_ * x;
+        norm = residual.norm();
       }
-      if (residual.norm() <= goal()) return x;
+      if (reached(norm)) return x;
       single_usable_ = false;
       if (!factorize_double(counts)) return Eigen::VectorXd::Constant(b.size(), kNaN);
     }
@@ -239,6 +239,14 @@ class MixedMumps {
  private:
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
+  // √n ε ||A||_F of the factorised matrix; its norm is taken once, and only for a solve that
+  // has not reached kRefinementTolerance ||b||.
+  double double_precision_floor() {
+    if (matrix_norm_ < 0.0) matrix_norm_ = matrix_.norm();
+    return std::sqrt(double(matrix_.rows())) * std::numeric_limits<double>::epsilon() *
+           matrix_norm_;
+  }
+
   bool factorize_double(LinearSolverCounts& counts) {
     ++counts.double_fallbacks;
     const bool ok = double_.factorize(matrix_, !double_analysed_);
@@ -247,9 +255,9 @@ class MixedMumps {
   }
 
   SingleMumps single_;
-  DoubleMumps double_;        // the fallback; analysed when first needed for a pattern
-  SparseMatrix matrix_;       // the factorised matrix: the refinement's residuals
-  double matrix_norm_ = 0.0;  // its Frobenius norm
+  DoubleMumps double_;         // the fallback; analysed when first needed for a pattern
+  SparseMatrix matrix_;        // the factorised matrix: the refinement's residuals
+  double matrix_norm_ = -1.0;  // its Frobenius norm; < 0: not yet taken
   bool single_usable_ = false, double_analysed_ = false;
 };
 
